@@ -1,0 +1,91 @@
+//! Materials as scenes describe them: the glTF 2.0 metallic-roughness model (glTF spec,
+//! Appendix B) with `KHR_materials_specular` and `KHR_materials_emissive_strength`. OBJ/MTL
+//! materials map onto the same parameters (see `scene::obj`). The BSDF built from these
+//! parameters at a hit lives in `crate::bsdf`.
+
+use glam::Vec3;
+
+/// A surface material: linear-RGB factors of the glTF metallic-roughness model.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    /// Name from the scene file, for messages.
+    pub name: String,
+    /// Base colour (linear RGB): diffuse albedo of dielectrics, F0 of metals.
+    pub base_color: Vec3,
+    /// 0 = dielectric, 1 = metal; values between blend the two BSDFs.
+    pub metallic: f32,
+    /// Perceptual roughness in [0, 1]; the GGX α is its square.
+    pub roughness: f32,
+    /// `KHR_materials_specular` `specularFactor`: strength of the dielectric specular layer
+    /// (0 leaves a pure Lambertian dielectric).
+    pub specular: f32,
+    /// `KHR_materials_specular` `specularColorFactor`: tints the dielectric F0 (0.04 × this,
+    /// clamped to 1).
+    pub specular_color: Vec3,
+    /// Emitted radiance (glTF `emissiveFactor` × `emissiveStrength`; MTL `Ke`).
+    pub emission: Vec3,
+    /// Whether emission leaves both faces (glTF `doubleSided`); otherwise only the front face,
+    /// the one whose counter-clockwise winding faces the viewer.
+    pub emission_two_sided: bool,
+}
+
+impl Default for Material {
+    /// glTF's default material: white, fully metallic, fully rough (spec §3.9.2) — but as the
+    /// default for *missing* materials we follow renderers' practice of a grey diffuse surface.
+    fn default() -> Self {
+        Self {
+            name: "default".to_owned(),
+            base_color: Vec3::splat(0.8),
+            metallic: 0.0,
+            roughness: 1.0,
+            specular: 0.0,
+            specular_color: Vec3::ONE,
+            emission: Vec3::ZERO,
+            emission_two_sided: false,
+        }
+    }
+}
+
+impl Material {
+    /// A two-sided Lambertian surface with the given albedo (no specular layer).
+    pub fn diffuse(name: &str, albedo: Vec3) -> Self {
+        Self { name: name.to_owned(), base_color: albedo, ..Self::default() }
+    }
+
+    /// True when the material emits light.
+    pub fn is_emissive(&self) -> bool {
+        self.emission.max_element() > 0.0
+    }
+
+    /// True when the material has a specular (GGX) lobe at all.
+    pub fn has_specular(&self) -> bool {
+        self.metallic > 0.0 || (self.specular > 0.0 && self.specular_color.max_element() > 0.0)
+    }
+
+    /// Checks the factors are finite and in range; returns what is wrong.
+    pub fn validate(&self) -> Result<(), String> {
+        let finite = self.base_color.is_finite()
+            && self.metallic.is_finite()
+            && self.roughness.is_finite()
+            && self.specular.is_finite()
+            && self.specular_color.is_finite()
+            && self.emission.is_finite();
+        if !finite {
+            return Err(format!("material '{}' has a non-finite factor", self.name));
+        }
+        if self.base_color.min_element() < 0.0
+            || self.emission.min_element() < 0.0
+            || self.specular_color.min_element() < 0.0
+        {
+            return Err(format!("material '{}' has a negative colour", self.name));
+        }
+        for (what, v) in
+            [("metallic", self.metallic), ("roughness", self.roughness), ("specular", self.specular)]
+        {
+            if !(0.0..=1.0).contains(&v) {
+                return Err(format!("material '{}': {what} {v} is outside [0, 1]", self.name));
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,136 @@
+//! Warping functions from [0, 1)^n to the shapes the integrator samples (pbrt-v4 §A.5).
+
+use glam::{Vec2, Vec3};
+use std::f32::consts::{FRAC_PI_2, FRAC_PI_4, PI};
+
+/// Uniform point on the unit disk, Shirley–Chiu concentric mapping (keeps strata compact).
+#[inline]
+pub fn sample_uniform_disk_concentric(u: Vec2) -> Vec2 {
+    let o = 2.0 * u - Vec2::ONE;
+    if o.x == 0.0 && o.y == 0.0 {
+        return Vec2::ZERO;
+    }
+    let (r, theta) = if o.x.abs() > o.y.abs() {
+        (o.x, FRAC_PI_4 * (o.y / o.x))
+    } else {
+        (o.y, FRAC_PI_2 - FRAC_PI_4 * (o.x / o.y))
+    };
+    let (s, c) = theta.sin_cos();
+    r * Vec2::new(c, s)
+}
+
+/// Cosine-weighted direction on the +Z hemisphere (Malley's method); pdf = cos θ / π.
+#[inline]
+pub fn sample_cosine_hemisphere(u: Vec2) -> Vec3 {
+    let d = sample_uniform_disk_concentric(u);
+    let z = (1.0 - d.length_squared()).max(0.0).sqrt();
+    Vec3::new(d.x, d.y, z)
+}
+
+/// Uniform barycentrics (b0, b1, b2) on a triangle (Heitz 2019's low-distortion mapping, which
+/// keeps the sampler's stratification).
+#[inline]
+pub fn sample_uniform_triangle(u: Vec2) -> [f32; 3] {
+    let (b0, b1);
+    if u.x < u.y {
+        b0 = u.x / 2.0;
+        b1 = u.y - b0;
+    } else {
+        b1 = u.y / 2.0;
+        b0 = u.x - b1;
+    }
+    [b0, b1, 1.0 - b0 - b1]
+}
+
+/// Uniform direction on the unit sphere.
+#[inline]
+pub fn sample_uniform_sphere(u: Vec2) -> Vec3 {
+    let z = 1.0 - 2.0 * u.x;
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let (s, c) = (2.0 * PI * u.y).sin_cos();
+    Vec3::new(r * c, r * s, z)
+}
+
+/// The power heuristic with β = 2 (Veach 1997) for `f_pdf` against one other strategy.
+#[inline]
+pub fn power_heuristic(f_pdf: f32, g_pdf: f32) -> f32 {
+    let f = f_pdf * f_pdf;
+    let g = g_pdf * g_pdf;
+    if f.is_infinite() {
+        return 1.0;
+    }
+    if f + g == 0.0 { 0.0 } else { f / (f + g) }
+}
+
+/// An orthonormal basis around a unit normal (Duff et al. 2017, branchless and robust).
+#[derive(Clone, Copy, Debug)]
+pub struct Frame {
+    /// First tangent.
+    pub x: Vec3,
+    /// Second tangent.
+    pub y: Vec3,
+    /// The normal.
+    pub z: Vec3,
+}
+
+impl Frame {
+    /// A frame whose z axis is the unit vector `n`.
+    #[inline]
+    pub fn from_z(n: Vec3) -> Self {
+        let sign = 1.0f32.copysign(n.z);
+        let a = -1.0 / (sign + n.z);
+        let b = n.x * n.y * a;
+        let x = Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
+        let y = Vec3::new(b, sign + n.y * n.y * a, -n.y);
+        Self { x, y, z: n }
+    }
+
+    /// A world vector in this frame's local coordinates.
+    #[inline]
+    pub fn to_local(&self, v: Vec3) -> Vec3 {
+        Vec3::new(v.dot(self.x), v.dot(self.y), v.dot(self.z))
+    }
+
+    /// A local vector in world coordinates.
+    #[inline]
+    pub fn from_local(&self, v: Vec3) -> Vec3 {
+        v.x * self.x + v.y * self.y + v.z * self.z
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn warps_stay_in_their_domains() {
+        for i in 0..64 {
+            for j in 0..64 {
+                let u = Vec2::new(i as f32 / 64.0, j as f32 / 63.99);
+                assert!(sample_uniform_disk_concentric(u).length() <= 1.0 + 1e-6);
+                let h = sample_cosine_hemisphere(u);
+                assert!(h.z >= 0.0 && (h.length() - 1.0).abs() < 1e-5);
+                let b = sample_uniform_triangle(u);
+                assert!(b.iter().all(|&x| (-1e-6..=1.0 + 1e-6).contains(&x)));
+                assert!((sample_uniform_sphere(u).length() - 1.0).abs() < 1e-5);
+            }
+        }
+    }
+
+    #[test]
+    fn frames_are_orthonormal() {
+        for n in [
+            Vec3::Z,
+            -Vec3::Z,
+            Vec3::X,
+            Vec3::new(0.3, -0.5, 0.8).normalize(),
+            Vec3::new(1e-8, 0.0, -1.0).normalize(),
+        ] {
+            let f = Frame::from_z(n);
+            assert!(f.x.dot(f.y).abs() < 1e-6 && f.x.dot(f.z).abs() < 1e-6 && f.y.dot(f.z).abs() < 1e-6);
+            assert!((f.x.length() - 1.0).abs() < 1e-6 && (f.y.length() - 1.0).abs() < 1e-6);
+            let v = Vec3::new(0.2, 0.3, 0.9);
+            assert!((f.from_local(f.to_local(v)) - v).length() < 1e-6);
+        }
+    }
+}

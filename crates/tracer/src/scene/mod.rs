@@ -1,0 +1,175 @@
+//! A scene as loaded from disk (SPEC §3, "Scenes"): triangles flattened into world space,
+//! materials, cameras, punctual lights and the environment. Loaders: `gltf` (glTF 2.0, .gltf and
+//! .glb) and `obj` (OBJ/MTL; a directory or list of OBJ files is one scene). The acceleration
+//! structure and light sampling structures are built from a `Scene` by `crate::integrator`.
+
+mod gltf;
+mod mesh;
+mod obj;
+
+pub use mesh::{Mesh, MeshPart};
+
+use crate::camera::CameraDesc;
+use crate::error::{Result, TracerError};
+use crate::material::Material;
+use glam::Vec3;
+use std::path::{Path, PathBuf};
+
+/// A light with no area (`KHR_lights_punctual`). Intensities are radiant (W/sr per channel).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PunctualLight {
+    /// Emits equally in all directions from a point.
+    Point {
+        /// World-space position.
+        position: Vec3,
+        /// Radiant intensity, W/sr per RGB channel.
+        intensity: Vec3,
+    },
+}
+
+/// Light arriving from infinitely far away where rays leave the scene.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Environment {
+    /// Constant radiance.
+    pub color: Vec3,
+}
+
+impl Default for Environment {
+    fn default() -> Self {
+        Self { color: Vec3::ZERO }
+    }
+}
+
+/// Which of a scene's cameras to use.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum CameraSelector {
+    /// By name (a glTF camera or camera-node name).
+    Name(String),
+    /// By position in the scene's camera list (0-based).
+    Index(usize),
+}
+
+impl CameraSelector {
+    /// Parses a command-line selector: a whole number is an index unless a camera has that name.
+    pub fn parse(s: &str) -> Self {
+        match s.parse::<usize>() {
+            Ok(i) => Self::Index(i),
+            Err(_) => Self::Name(s.to_owned()),
+        }
+    }
+}
+
+impl std::fmt::Display for CameraSelector {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Name(n) => write!(f, "named '{n}'"),
+            Self::Index(i) => write!(f, "at index {i}"),
+        }
+    }
+}
+
+/// A loaded scene.
+#[derive(Clone, Debug, Default)]
+pub struct Scene {
+    /// The file (or directory) the scene came from, for messages.
+    pub path: PathBuf,
+    /// All triangles, in world space.
+    pub mesh: Mesh,
+    /// Materials; `mesh.material_ids` index this list.
+    pub materials: Vec<Material>,
+    /// Cameras the scene carries (glTF), in file order.
+    pub cameras: Vec<CameraDesc>,
+    /// Punctual lights.
+    pub lights: Vec<PunctualLight>,
+    /// The environment.
+    pub environment: Environment,
+}
+
+impl Scene {
+    /// Loads a scene: `.gltf`/`.glb`, `.obj`, or a directory whose `.obj` files form one scene.
+    pub fn load(path: &Path) -> Result<Self> {
+        let meta = std::fs::metadata(path).map_err(|e| TracerError::io(path, e))?;
+        let scene = if meta.is_dir() {
+            obj::load_dir(path)?
+        } else {
+            match extension(path).as_deref() {
+                Some("gltf") | Some("glb") => gltf::load(path)?,
+                Some("obj") => obj::load_files(path, &[path.to_path_buf()])?,
+                _ => {
+                    return Err(TracerError::scene(
+                        path,
+                        "unknown scene format: expected .gltf, .glb, .obj or a directory of .obj files",
+                    ));
+                }
+            }
+        };
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    /// Loads several OBJ files as one scene (named after the first).
+    pub fn load_obj_files(paths: &[PathBuf]) -> Result<Self> {
+        let first = paths.first().ok_or_else(|| TracerError::Settings("no scene files given".into()))?;
+        let scene = obj::load_files(first, paths)?;
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    /// The camera `selector` picks, or an error listing the cameras there are.
+    pub fn camera(&self, selector: &CameraSelector) -> Result<&CameraDesc> {
+        let found = match selector {
+            CameraSelector::Name(name) => self.cameras.iter().find(|c| &c.name == name),
+            CameraSelector::Index(i) => {
+                // A camera literally named "2" wins over index 2.
+                let by_name = self.cameras.iter().find(|c| c.name == i.to_string());
+                by_name.or_else(|| self.cameras.get(*i))
+            }
+        };
+        found.ok_or_else(|| TracerError::UnknownCamera {
+            path: self.path.clone(),
+            wanted: selector.to_string(),
+            available: self.describe_cameras(),
+        })
+    }
+
+    /// The scene's cameras listed for a message: "2 cameras: 0 'left', 1 'right'".
+    pub fn describe_cameras(&self) -> String {
+        if self.cameras.is_empty() {
+            return "no cameras (give one with --look-from/--look-at or a camera-list file)".to_owned();
+        }
+        let list: Vec<String> =
+            self.cameras.iter().enumerate().map(|(i, c)| format!("{i} '{}'", c.name)).collect();
+        format!("{} camera{}: {}", list.len(), if list.len() == 1 { "" } else { "s" }, list.join(", "))
+    }
+
+    /// Checks the whole scene for values the tracer cannot use (NaN vertices, bad indices,
+    /// out-of-range materials) and names the first problem.
+    pub fn validate(&self) -> Result<()> {
+        self.mesh.validate(self.materials.len()).map_err(|m| TracerError::scene(&self.path, m))?;
+        for m in &self.materials {
+            m.validate().map_err(|msg| TracerError::scene(&self.path, msg))?;
+        }
+        for (i, light) in self.lights.iter().enumerate() {
+            let PunctualLight::Point { position, intensity } = light;
+            if !position.is_finite() || !intensity.is_finite() || intensity.min_element() < 0.0 {
+                return Err(TracerError::scene(
+                    &self.path,
+                    format!("light {i} has a non-finite or negative value"),
+                ));
+            }
+        }
+        if !self.environment.color.is_finite() || self.environment.color.min_element() < 0.0 {
+            return Err(TracerError::scene(&self.path, "environment colour must be finite and non-negative"));
+        }
+        Ok(())
+    }
+
+    /// Axis-aligned bounds of all vertices (min, max); `None` for an empty scene.
+    pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
+        self.mesh.bounds()
+    }
+}
+
+fn extension(path: &Path) -> Option<String> {
+    path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase())
+}
