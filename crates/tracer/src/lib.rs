@@ -5,8 +5,10 @@
 
 pub mod atomic;
 pub mod camera;
+pub mod compare;
 pub mod error;
 pub mod image;
+pub mod image_io;
 pub mod lens;
 pub mod material;
 pub mod ray;

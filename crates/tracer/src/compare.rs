@@ -1,0 +1,1 @@
+//! Image comparison statistics (placeholder until written).

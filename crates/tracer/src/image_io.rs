@@ -1,0 +1,1 @@
+//! Image files (placeholder until written).
