@@ -4,15 +4,24 @@
 #![warn(missing_docs)]
 
 pub mod atomic;
+pub mod bsdf;
+pub mod bvh;
 pub mod camera;
 pub mod compare;
 pub mod error;
+pub mod film;
 pub mod image;
 pub mod image_io;
+pub mod integrator;
+pub mod interaction;
 pub mod lens;
+pub mod light;
 pub mod material;
 pub mod ray;
+pub mod render;
+pub mod sampler;
 pub mod sampling;
 pub mod scene;
+mod triangle;
 
 pub use error::{Result, TracerError};

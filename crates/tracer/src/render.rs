@@ -1,0 +1,214 @@
+//! The render loop: samples every pixel of the film through the camera and the lens chain and
+//! the path tracer, in parallel tiles on the current rayon pool.
+//!
+//! Determinism: each pixel is computed by exactly one task, its samples in index order, with
+//! random numbers that depend only on (pixel, sample, dimension, seed) — so the image is the
+//! same bit for bit whatever the thread count and whichever thread takes which tile.
+
+use crate::camera::{Camera, CameraSample};
+use crate::error::{Result, TracerError};
+use crate::film::{Film, FilmImages, PixelAccumulator};
+use crate::integrator::{FirstHit, PathTracer};
+use crate::lens::{FrameInfo, LensChain, RayGenerator};
+use crate::sampler::{MAX_SAMPLES_PER_PIXEL, Sampler};
+use glam::{UVec2, Vec2};
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// Tile edge in pixels: big enough to amortise scheduling, small enough to balance 2+ cores.
+const TILE: u32 = 16;
+
+/// The most pixels a film may have (refused before allocating).
+pub const MAX_PIXELS: u64 = 1 << 28;
+
+/// What to render.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderSettings {
+    /// Samples per pixel (1 ..= 65536).
+    pub spp: u32,
+    /// Seed of the sample sequence.
+    pub seed: u32,
+    /// Frame number (passed to lens shaders; the shutter opens at this time).
+    pub frame: u32,
+    /// The view's camera number, 1-based (passed to lens shaders).
+    pub camera_id: u32,
+    /// Shutter open and close as offsets from the frame, in frames; equal values mean no
+    /// motion blur (and no time dimension is sampled).
+    pub shutter: (f32, f32),
+    /// Whether to record first-hit albedo, normal and depth.
+    pub aovs: bool,
+}
+
+impl RenderSettings {
+    /// A still render at `spp` samples per pixel, seed 0, frame 0, camera 1.
+    pub const fn still(spp: u32) -> Self {
+        Self { spp, seed: 0, frame: 0, camera_id: 1, shutter: (0.0, 0.0), aovs: false }
+    }
+}
+
+/// Progress reports from a render (called from worker threads).
+pub trait Progress: Sync {
+    /// `pixels` more pixels are finished.
+    fn advance(&self, pixels: u64);
+}
+
+/// A progress sink that ignores everything.
+pub struct NoProgress;
+
+impl Progress for NoProgress {
+    fn advance(&self, _pixels: u64) {}
+}
+
+/// Counts from one render.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RenderStats {
+    /// Wall-clock seconds spent tracing (lens set-up and tear-down excluded).
+    pub seconds: f64,
+    /// Camera samples taken.
+    pub samples: u64,
+    /// Rays traced (camera, continuation and shadow rays).
+    pub rays: u64,
+    /// Samples that came out NaN or infinite (recorded as black).
+    pub nonfinite_samples: u64,
+    /// Samples the camera or a lens shader dropped (recorded as black).
+    pub dropped_samples: u64,
+}
+
+/// A finished render.
+#[derive(Clone, Debug)]
+pub struct Rendered {
+    /// The images.
+    pub images: FilmImages,
+    /// The counts.
+    pub stats: RenderStats,
+}
+
+/// Renders one frame of `camera` through `lenses` with `tracer`.
+pub fn render(
+    tracer: &PathTracer,
+    camera: &dyn Camera,
+    lenses: &mut LensChain,
+    settings: &RenderSettings,
+    progress: &dyn Progress,
+) -> Result<Rendered> {
+    let res = camera.resolution();
+    if settings.spp == 0 || settings.spp > MAX_SAMPLES_PER_PIXEL {
+        return Err(TracerError::Settings(format!(
+            "{} samples per pixel: must be 1 ..= {MAX_SAMPLES_PER_PIXEL}",
+            settings.spp
+        )));
+    }
+    if res.x == 0 || res.y == 0 || res.x as u64 * res.y as u64 > MAX_PIXELS {
+        return Err(TracerError::Settings(format!(
+            "resolution {}x{}: must be non-empty and at most {MAX_PIXELS} pixels",
+            res.x, res.y
+        )));
+    }
+    let (open, close) = settings.shutter;
+    if !(open.is_finite() && close.is_finite() && open <= close) {
+        return Err(TracerError::Settings(format!("shutter {open}..{close} must be finite with open ≤ close")));
+    }
+    let frame = FrameInfo {
+        frame: settings.frame,
+        camera_id: settings.camera_id,
+        shutter: (settings.frame as f32 + open, settings.frame as f32 + close),
+    };
+    lenses.begin_frame(camera, frame)?;
+    let start = Instant::now();
+    let (pixels, rays) = {
+        let generator = lenses.generator(camera);
+        if settings.aovs {
+            trace_film::<true>(tracer, &generator, res, settings, progress)
+        } else {
+            trace_film::<false>(tracer, &generator, res, settings, progress)
+        }
+    };
+    let seconds = start.elapsed().as_secs_f64();
+    lenses.end_frame(camera, frame)?;
+
+    let film = Film::new(res.x, res.y, settings.spp, pixels);
+    let stats = RenderStats {
+        seconds,
+        samples: res.x as u64 * res.y as u64 * settings.spp as u64,
+        rays,
+        nonfinite_samples: film.nonfinite_samples(),
+        dropped_samples: film.dropped_samples(),
+    };
+    Ok(Rendered { images: film.images(), stats })
+}
+
+/// Traces every pixel; returns the accumulators in row-major order and the ray count.
+fn trace_film<const AOV: bool>(
+    tracer: &PathTracer,
+    generator: &dyn RayGenerator,
+    res: UVec2,
+    settings: &RenderSettings,
+    progress: &dyn Progress,
+) -> (Vec<PixelAccumulator>, u64) {
+    let tiles_x = res.x.div_ceil(TILE);
+    let tiles_y = res.y.div_ceil(TILE);
+    let frame_time = settings.frame as f32 + settings.shutter.0;
+    let shutter_length = settings.shutter.1 - settings.shutter.0;
+    let tiles: Vec<(Vec<PixelAccumulator>, u64)> = (0..tiles_x * tiles_y)
+        .into_par_iter()
+        .map(|tile| {
+            let x0 = (tile % tiles_x) * TILE;
+            let y0 = (tile / tiles_x) * TILE;
+            let x1 = (x0 + TILE).min(res.x);
+            let y1 = (y0 + TILE).min(res.y);
+            let mut out = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
+            let mut rays = 0u64;
+            for y in y0..y1 {
+                for x in x0..x1 {
+                    let pixel = UVec2::new(x, y);
+                    let mut acc = PixelAccumulator::default();
+                    for index in 0..settings.spp {
+                        let mut sampler = Sampler::new(pixel, index, settings.seed);
+                        let [jx, jy, lx, ly] = sampler.next_4d();
+                        let time = if shutter_length > 0.0 {
+                            sampler.start_set(1);
+                            frame_time + shutter_length * sampler.next_4d()[0]
+                        } else {
+                            frame_time
+                        };
+                        let sample = CameraSample {
+                            p_film: Vec2::new(x as f32 + jx, y as f32 + jy),
+                            p_lens: Vec2::new(lx, ly),
+                            time,
+                        };
+                        let Some(ray) = generator.generate(&sample) else {
+                            acc.drop_sample();
+                            continue;
+                        };
+                        let mut first = FirstHit::default();
+                        let path = tracer.radiance::<AOV>(ray, &mut sampler, &mut first);
+                        rays += path.rays as u64;
+                        acc.add(path.radiance);
+                        if AOV {
+                            acc.add_first_hit(&first);
+                        }
+                    }
+                    out.push(acc);
+                }
+            }
+            progress.advance(out.len() as u64);
+            (out, rays)
+        })
+        .collect();
+
+    // Scatter tiles into row-major order.
+    let mut pixels = vec![PixelAccumulator::default(); res.x as usize * res.y as usize];
+    let mut rays = 0;
+    for (tile, (accs, tile_rays)) in tiles.into_iter().enumerate() {
+        rays += tile_rays;
+        let tile = tile as u32;
+        let x0 = (tile % tiles_x) * TILE;
+        let y0 = (tile / tiles_x) * TILE;
+        let w = (x0 + TILE).min(res.x) - x0;
+        for (k, acc) in accs.into_iter().enumerate() {
+            let (dx, dy) = (k as u32 % w, k as u32 / w);
+            pixels[((y0 + dy) * res.x + x0 + dx) as usize] = acc;
+        }
+    }
+    (pixels, rays)
+}
