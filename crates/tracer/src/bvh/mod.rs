@@ -2,24 +2,25 @@
 //! scene's triangles, with closest-hit and occlusion (any-hit, early exit) queries. obvhs types
 //! stay behind this module.
 //!
-//! obvhs's traps (NOTES.md) are handled here, not by callers:
-//! - its node test culls boxes closer than 1e-4 in ray-parameter units whatever `tmin` says:
-//!   the BVH is built in a space scaled by a power of two (exact in floating point) that maps the
-//!   scene's extent to ~1024, so that cut-off is ~1e-7 of the scene whatever its scale;
-//! - a −0.0 direction component makes traversal miss everything, and components below
-//!   f32::EPSILON get a clamped inverse: the traversal ray's direction is sanitised (+0.0) and its
-//!   inverse computed here with a much smaller clamp;
+//! obvhs builds the tree and its `traverse!` macro walks it; the two tests inside the walk are
+//! ours, which is how its traps (NOTES.md) are closed:
+//! - the node test (`node.rs`) has no 1e-4 entry cut-off, so nearby geometry in small scenes is
+//!   never culled, and it derives slab order and reciprocals from one sanitised direction
+//!   (obvhs's test misses everything for a −0.0 component and clamps components below
+//!   f32::EPSILON);
 //! - `primitive_id` is a slot in `primitive_indices`: triangles are stored reordered by slot;
-//! - its triangle test is not watertight: ours (`crate::triangle`) runs in the traversal, in
-//!   world space on the original vertices.
+//! - the triangle test is our watertight one (`crate::triangle`), in world space on the
+//!   original vertices (obvhs's Möller–Trumbore test is not watertight).
+
+mod node;
 
 use crate::ray::Ray;
 use crate::scene::Mesh;
-use crate::triangle::{TriangleHit, WatertightRay};
-use glam::{UVec2, Vec3, Vec3A};
+use crate::triangle::{TriangleHit, WatertightRay, safe_reciprocal};
+use glam::UVec2;
+use node::NodeRay;
 use obvhs::aabb::Aabb;
 use obvhs::cwbvh::CwBvh;
-use obvhs::ray::Ray as BvhRay;
 use obvhs::{BvhBuildParams, traverse};
 
 /// A ray–scene intersection.
@@ -39,20 +40,47 @@ pub struct Hit {
 pub struct Bvh {
     cwbvh: CwBvh,
     /// World-space corners, stored in BVH slot order.
-    triangles: Vec<[Vec3A; 3]>,
+    triangles: Vec<[[f32; 3]; 3]>,
     /// Slot → triangle index in the mesh.
     triangle_ids: Vec<u32>,
-    /// Power-of-two scale from world space to the space the BVH was built in.
-    to_bvh: f32,
+}
+
+/// Everything a query needs about its ray, computed once.
+struct QueryRay {
+    node: NodeRay,
+    triangle: WatertightRay,
+    /// Traversal order octant, obvhs's encoding.
+    oct_inv4: u32,
+    /// Direction for obvhs's traversal bookkeeping (sign only).
+    direction: glam::Vec3A,
+}
+
+impl QueryRay {
+    #[inline(always)]
+    fn new(ray: &Ray) -> Self {
+        // +0.0 turns −0.0 into +0.0 (and leaves everything else alone), so the sign tests
+        // below and the reciprocals agree.
+        let d = ray.direction + glam::Vec3::ZERO;
+        let inv_dir = safe_reciprocal(d);
+        let negative = [d.x < 0.0, d.y < 0.0, d.z < 0.0];
+        let oct_inv4 = (if negative[0] { 0 } else { 0x0404_0404 })
+            | (if negative[1] { 0 } else { 0x0202_0202 })
+            | (if negative[2] { 0 } else { 0x0101_0101 });
+        Self {
+            node: NodeRay { origin: ray.origin.to_array(), inv_dir, negative },
+            triangle: WatertightRay::new(ray.origin, d, inv_dir),
+            oct_inv4,
+            direction: d.into(),
+        }
+    }
 }
 
 impl Bvh {
     /// Builds the BVH over every triangle of `mesh` (obvhs medium preset).
     pub fn build(mesh: &Mesh) -> Self {
-        let to_bvh = mesh.bounds().map_or(1.0, |(lo, hi)| bvh_scale(lo, hi));
         let aabbs: Vec<Aabb> = (0..mesh.triangle_count())
             .map(|t| {
-                let [a, b, c] = mesh.corners(t).map(|p| Vec3A::from(p) * to_bvh);
+                let [a, b, c] = mesh.corners(t).map(glam::Vec3A::from);
                 Aabb::new(a.min(b).min(c), a.max(b).max(c))
             })
             .collect();
@@ -62,8 +90,8 @@ impl Bvh {
             obvhs::cwbvh::builder::build_cwbvh(&aabbs, BvhBuildParams::medium_build(), &mut Default::default())
         };
         let triangle_ids = cwbvh.primitive_indices.clone();
-        let triangles = triangle_ids.iter().map(|&t| mesh.corners(t as usize).map(Vec3A::from)).collect();
-        Self { cwbvh, triangles, triangle_ids, to_bvh }
+        let triangles = triangle_ids.iter().map(|&t| mesh.corners(t as usize).map(|p| p.to_array())).collect();
+        Self { cwbvh, triangles, triangle_ids }
     }
 
     /// Number of triangles.
@@ -78,23 +106,8 @@ impl Bvh {
 
     /// The world-space corners of the triangle in `slot`.
     #[inline]
-    pub fn triangle(&self, slot: u32) -> &[Vec3A; 3] {
+    pub fn triangle(&self, slot: u32) -> &[[f32; 3]; 3] {
         &self.triangles[slot as usize]
-    }
-
-    /// The traversal ray in BVH space, with obvhs's direction traps defused.
-    #[inline]
-    fn bvh_ray(&self, ray: &Ray, t_max: f32) -> BvhRay {
-        // +0.0 turns −0.0 into +0.0 (and leaves everything else alone).
-        let d = Vec3A::from(ray.direction) + Vec3A::ZERO;
-        let inv = |x: f32| if x.abs() < 1e-30 { 1e30f32.copysign(x) } else { 1.0 / x };
-        BvhRay {
-            origin: Vec3A::from(ray.origin) * self.to_bvh,
-            direction: d,
-            inv_direction: Vec3A::new(inv(d.x), inv(d.y), inv(d.z)),
-            tmin: 0.0,
-            tmax: t_max * self.to_bvh,
-        }
     }
 
     /// The closest hit along `ray` in (0, t_max), if any.
@@ -103,18 +116,17 @@ impl Bvh {
         if self.triangles.is_empty() {
             return None;
         }
-        let wray = WatertightRay::new(ray.origin, ray.direction);
-        let mut traverse_ray = self.bvh_ray(ray, t_max);
+        let q = QueryRay::new(ray);
         let mut best: Option<(u32, TriangleHit)> = None;
         let mut best_t = t_max;
-        let mut state = self.cwbvh.new_traversal(traverse_ray.direction);
+        let mut state = self.cwbvh.new_traversal(q.direction);
+        state.oct_inv4 = q.oct_inv4;
         let mut node;
-        traverse!(self.cwbvh, node, state, node.intersect_ray(&traverse_ray, state.oct_inv4), {
+        traverse!(self.cwbvh, node, state, node::intersect(node, &q.node, best_t, state.oct_inv4), {
             let slot = state.primitive_id;
-            if let Some(h) = wray.intersect(&self.triangles[slot as usize], best_t) {
+            if let Some(h) = q.triangle.intersect(&self.triangles[slot as usize], best_t) {
                 best_t = h.t;
                 best = Some((slot, h));
-                traverse_ray.tmax = h.t * self.to_bvh;
             }
         });
         best.map(|(slot, h)| Hit { t: h.t, triangle: self.triangle_ids[slot as usize], slot, barycentrics: h.b })
@@ -126,14 +138,14 @@ impl Bvh {
         if self.triangles.is_empty() {
             return false;
         }
-        let wray = WatertightRay::new(ray.origin, ray.direction);
-        let traverse_ray = self.bvh_ray(ray, t_max);
-        let mut state = self.cwbvh.new_traversal(traverse_ray.direction);
+        let q = QueryRay::new(ray);
+        let mut state = self.cwbvh.new_traversal(q.direction);
+        state.oct_inv4 = q.oct_inv4;
         let mut node;
         let mut blocked = false;
         'search: {
-            traverse!(self.cwbvh, node, state, node.intersect_ray(&traverse_ray, state.oct_inv4), {
-                if wray.intersect(&self.triangles[state.primitive_id as usize], t_max).is_some() {
+            traverse!(self.cwbvh, node, state, node::intersect(node, &q.node, t_max, state.oct_inv4), {
+                if q.triangle.intersect(&self.triangles[state.primitive_id as usize], t_max).is_some() {
                     blocked = true;
                     break 'search;
                 }
@@ -143,25 +155,11 @@ impl Bvh {
     }
 }
 
-/// The power of two that maps the scene's largest extent into [512, 1024), clamped so that no
-/// coordinate overflows (an exact scale: it changes exponents only).
-fn bvh_scale(lo: Vec3, hi: Vec3) -> f32 {
-    let extent = (hi - lo).max_element();
-    let magnitude = lo.abs().max(hi.abs()).max_element();
-    if !(extent > 0.0) || !extent.is_finite() {
-        return 1.0;
-    }
-    let mut k = (1024.0 / extent).log2().floor() as i32;
-    // Keep |coordinates| × scale well inside f32's range.
-    let max_k = (1e30f32 / magnitude.max(1e-30)).log2().floor() as i32;
-    k = k.min(max_k).clamp(-120, 120);
-    2f32.powi(k)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::scene::MeshPart;
+    use glam::Vec3;
 
     fn mesh_of(tris: &[[Vec3; 3]]) -> Mesh {
         let mut m = Mesh::default();
@@ -199,11 +197,11 @@ mod tests {
                 let o = rng.vec() * 6.0 * scale;
                 let d = rng.vec().normalize();
                 let ray = Ray::new(o, d, 0.0);
-                let wray = WatertightRay::new(o, d);
+                let wray = WatertightRay::new(o, d, safe_reciprocal(d));
                 let brute = tris
                     .iter()
                     .enumerate()
-                    .filter_map(|(i, t)| wray.intersect(&t.map(Vec3A::from), f32::INFINITY).map(|h| (i, h.t)))
+                    .filter_map(|(i, t)| wray.intersect(&t.map(|p| p.to_array()), f32::INFINITY).map(|h| (i, h.t)))
                     .min_by(|a, b| a.1.total_cmp(&b.1));
                 let got = bvh.intersect(&ray, f32::INFINITY).map(|h| (h.triangle as usize, h.t));
                 assert_eq!(got, brute, "scale {scale}");
@@ -227,7 +225,7 @@ mod tests {
         assert!(bvh.intersect(&Ray::new(Vec3::ZERO, tiny, 0.0), f32::INFINITY).is_some());
     }
 
-    /// Hits closer than obvhs's 1e-4 node cut-off are found in a tiny scene.
+    /// Hits closer than obvhs's own 1e-4 node cut-off are found in a tiny scene.
     #[test]
     fn near_hits_in_tiny_scenes() {
         let s = 1e-5;
