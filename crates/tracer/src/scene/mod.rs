@@ -83,6 +83,9 @@ pub struct Scene {
     pub lights: Vec<PunctualLight>,
     /// The environment.
     pub environment: Environment,
+    /// What the loader ignored or replaced (unsupported features, missing materials …), each
+    /// naming the file: library code never prints, the CLI shows these.
+    pub warnings: Vec<String>,
 }
 
 impl Scene {

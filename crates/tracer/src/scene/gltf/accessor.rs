@@ -1,0 +1,174 @@
+//! Accessor reading with every offset, stride and count checked against the buffers. The gltf
+//! crate's own reader asserts (panics) when an accessor's type or stride does not match what is
+//! read, and its offset arithmetic can overflow on hostile counts: here every such case is a
+//! message naming the accessor.
+
+use glam::{Vec2, Vec3};
+use gltf::accessor::sparse::IndexType;
+use gltf::accessor::{Accessor, DataType, Dimensions};
+
+/// Largest element count accepted for an accessor without a buffer view (all zeros plus sparse
+/// substitutions): such a count is not bounded by any buffer, so a hostile file could ask for
+/// terabytes.
+const MAX_VIEWLESS_COUNT: usize = 1 << 26;
+
+/// Reads a `VEC3`/`FLOAT` accessor (`POSITION`, `NORMAL`).
+pub(super) fn read_vec3(acc: &Accessor, buffers: &[Vec<u8>], semantic: &str) -> Result<Vec<Vec3>, String> {
+    expect(acc, semantic, Dimensions::Vec3, &[(DataType::F32, false)])?;
+    let values = read(acc, buffers)?;
+    Ok(values.chunks_exact(3).map(|c| Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32)).collect())
+}
+
+/// Reads a `TEXCOORD_n` accessor: `VEC2` of floats or normalised unsigned bytes/shorts.
+pub(super) fn read_uv(acc: &Accessor, buffers: &[Vec<u8>]) -> Result<Vec<Vec2>, String> {
+    let allowed = [(DataType::F32, false), (DataType::U8, true), (DataType::U16, true)];
+    expect(acc, "TEXCOORD_0", Dimensions::Vec2, &allowed)?;
+    let values = read(acc, buffers)?;
+    Ok(values.chunks_exact(2).map(|c| Vec2::new(c[0] as f32, c[1] as f32)).collect())
+}
+
+/// Reads an index accessor: `SCALAR` unsigned bytes, shorts or ints.
+pub(super) fn read_indices(acc: &Accessor, buffers: &[Vec<u8>]) -> Result<Vec<u32>, String> {
+    let allowed = [(DataType::U8, false), (DataType::U16, false), (DataType::U32, false)];
+    expect(acc, "indices", Dimensions::Scalar, &allowed)?;
+    // f64 holds every u32 exactly, so the round trip is lossless.
+    Ok(read(acc, buffers)?.into_iter().map(|v| v as u32).collect())
+}
+
+/// Checks an accessor's element type against what its use allows.
+fn expect(acc: &Accessor, what: &str, dims: Dimensions, allowed: &[(DataType, bool)]) -> Result<(), String> {
+    let (ty, norm) = (acc.data_type(), acc.normalized());
+    if acc.dimensions() == dims && allowed.contains(&(ty, norm)) {
+        return Ok(());
+    }
+    Err(format!(
+        "accessor {} used as {what} is {:?} of {ty:?}{}, which glTF does not allow there",
+        acc.index(),
+        acc.dimensions(),
+        if norm { " (normalized)" } else { "" }
+    ))
+}
+
+fn component_size(ty: DataType) -> usize {
+    match ty {
+        DataType::I8 | DataType::U8 => 1,
+        DataType::I16 | DataType::U16 => 2,
+        DataType::U32 | DataType::F32 => 4,
+    }
+}
+
+/// One component from exactly `component_size(ty)` bytes, normalised as glTF §3.11 says.
+fn decode(ty: DataType, normalized: bool, c: &[u8]) -> f64 {
+    let (v, max) = match (ty, c) {
+        (DataType::I8, &[a]) => (f64::from(a as i8), 127.0),
+        (DataType::U8, &[a]) => (f64::from(a), 255.0),
+        (DataType::I16, &[a, b]) => (f64::from(i16::from_le_bytes([a, b])), 32767.0),
+        (DataType::U16, &[a, b]) => (f64::from(u16::from_le_bytes([a, b])), 65535.0),
+        (DataType::U32, &[a, b, c, d]) => (f64::from(u32::from_le_bytes([a, b, c, d])), 1.0),
+        (DataType::F32, &[a, b, c, d]) => return f64::from(f32::from_le_bytes([a, b, c, d])),
+        _ => return f64::NAN, // unreachable: callers slice by component_size
+    };
+    if normalized { (v / max).max(-1.0) } else { v }
+}
+
+/// All `count × components` values of an accessor, sparse substitutions applied.
+fn read(acc: &Accessor, buffers: &[Vec<u8>]) -> Result<Vec<f64>, String> {
+    let (ty, norm) = (acc.data_type(), acc.normalized());
+    let dims = acc.dimensions().multiplicity();
+    let size = component_size(ty);
+    let elem = dims * size;
+    let count = acc.count();
+    let name = format!("accessor {}", acc.index());
+    let total = count.checked_mul(dims).ok_or_else(|| format!("{name}: count {count} is too large"))?;
+    let decode_elem = |bytes: &[u8], out: &mut [f64]| {
+        for (o, c) in out.iter_mut().zip(bytes.chunks_exact(size)) {
+            *o = decode(ty, norm, c);
+        }
+    };
+
+    let mut out = match acc.view() {
+        Some(view) => {
+            let stride = view.stride().unwrap_or(elem);
+            if stride < elem {
+                return Err(format!("{name}: byteStride {stride} is smaller than its {elem}-byte elements"));
+            }
+            let bytes = elements(&view, acc.offset(), stride, elem, count, buffers, &name)?;
+            let mut out = vec![0.0; total];
+            for (i, o) in out.chunks_exact_mut(dims.max(1)).enumerate() {
+                let e = bytes
+                    .get(i * stride..i * stride + elem)
+                    .ok_or_else(|| format!("{name}: element {i} is out of bounds"))?;
+                decode_elem(e, o);
+            }
+            out
+        }
+        None if count > MAX_VIEWLESS_COUNT => {
+            return Err(format!("{name}: count {count} without a buffer view is implausibly large"));
+        }
+        None => vec![0.0; total],
+    };
+
+    if let Some(sparse) = acc.sparse() {
+        let n = sparse.count();
+        let sname = format!("{name} (sparse)");
+        if n > count {
+            return Err(format!("{sname}: {n} substitutions for {count} elements"));
+        }
+        let indices = sparse.indices();
+        let (isize, ity) = match indices.index_type() {
+            IndexType::U8 => (1, DataType::U8),
+            IndexType::U16 => (2, DataType::U16),
+            IndexType::U32 => (4, DataType::U32),
+        };
+        // Sparse index and value views are tightly packed (glTF forbids a byteStride there).
+        let ibytes = elements(&indices.view(), indices.offset(), isize, isize, n, buffers, &sname)?;
+        let values = sparse.values();
+        let vbytes = elements(&values.view(), values.offset(), elem, elem, n, buffers, &sname)?;
+        for (k, (ib, vb)) in ibytes.chunks_exact(isize).zip(vbytes.chunks_exact(elem.max(1))).enumerate() {
+            let target = decode(ity, false, ib) as usize;
+            let slot = out
+                .get_mut(target * dims..(target + 1) * dims)
+                .ok_or_else(|| format!("{sname}: substitution {k} targets element {target} of {count}"))?;
+            decode_elem(vb, slot);
+        }
+    }
+    Ok(out)
+}
+
+/// The bytes spanning `count` elements of `elem` bytes, `stride` apart, from `offset` bytes into
+/// `view`, checked against the view and the view against its buffer.
+fn elements<'b>(
+    view: &gltf::buffer::View,
+    offset: usize,
+    stride: usize,
+    elem: usize,
+    count: usize,
+    buffers: &'b [Vec<u8>],
+    name: &str,
+) -> Result<&'b [u8], String> {
+    let b = view.buffer().index();
+    let buffer = buffers.get(b).ok_or_else(|| format!("{name}: buffer {b} is missing"))?;
+    let view_bytes = view.offset().checked_add(view.length()).and_then(|end| buffer.get(view.offset()..end));
+    let view_bytes = view_bytes.ok_or_else(|| {
+        format!(
+            "{name}: buffer view {} (bytes {}..{}) runs past the end of buffer {b} ({} bytes)",
+            view.index(),
+            view.offset(),
+            view.offset().saturating_add(view.length()),
+            buffer.len()
+        )
+    })?;
+    if count == 0 {
+        return Ok(&[]);
+    }
+    let end =
+        stride.checked_mul(count - 1).and_then(|n| n.checked_add(elem)).and_then(|n| n.checked_add(offset));
+    end.and_then(|end| view_bytes.get(offset..end)).ok_or_else(|| {
+        format!(
+            "{name}: {count} elements from byte {offset} need {} bytes but buffer view {} has {}",
+            end.map_or_else(|| "more than 2^64".to_owned(), |e| e.to_string()),
+            view.index(),
+            view_bytes.len()
+        )
+    })
+}

@@ -1,0 +1,331 @@
+//! glTF 2.0 loader (.gltf with external or data-URI buffers, and .glb): the default scene's node
+//! hierarchy flattened into world space, perspective and orthographic cameras, metallic-roughness
+//! materials with `KHR_materials_emissive_strength` and `KHR_materials_specular`, and
+//! `KHR_lights_punctual` point lights. Images are never decoded here (textures are a later
+//! milestone: materials that use them get a warning). Every malformed input is a
+//! [`TracerError`] naming the file, never a panic.
+
+mod accessor;
+mod buffers;
+mod material;
+#[cfg(test)]
+pub(super) mod tests;
+
+use super::{MeshPart, Scene};
+use crate::camera::{CameraDesc, Projection};
+use crate::error::{Result, TracerError};
+use glam::{Affine3A, Mat3, Mat4, Quat, Vec3};
+use gltf::mesh::{Mode, Semantic};
+use std::path::Path;
+
+/// Extensions this loader understands; a file requiring any other is refused.
+const HANDLED_EXTENSIONS: &[&str] =
+    &["KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_specular"];
+
+/// Loads a `.gltf` or `.glb` file (told apart by the GLB magic, not the name).
+pub(super) fn load(path: &Path) -> Result<Scene> {
+    let bytes = std::fs::read(path).map_err(|e| TracerError::io(path, e))?;
+    let err = |m: String| TracerError::scene(path, m);
+    let (json, bin) = if bytes.starts_with(b"glTF") {
+        buffers::split_glb(&bytes).map_err(|m| err(format!("malformed GLB: {m}")))?
+    } else {
+        (&bytes[..], None)
+    };
+    // Tolerate what some writers add although the spec forbids it: a UTF-8 byte-order mark, and
+    // NUL instead of space padding at the end of a GLB JSON chunk.
+    let json = json.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(json);
+    let end = json.iter().rposition(|&b| b != 0 && !b.is_ascii_whitespace()).map_or(0, |i| i + 1);
+    let mut root: gltf::json::Root = gltf::json::deserialize::from_slice(&json[..end])
+        .map_err(|e| err(format!("malformed glTF JSON: {e}")))?;
+    if !root.asset.version.starts_with("2.") {
+        return Err(err(format!("glTF version {} is not supported (only 2.x)", root.asset.version)));
+    }
+    if let Some(ext) = root.extensions_required.iter().find(|e| !HANDLED_EXTENSIONS.contains(&e.as_str())) {
+        return Err(err(format!("the file requires extension {ext}, which mcctrace does not support")));
+    }
+    // The gltf crate's validator refuses required extensions it does not parse itself (e.g.
+    // KHR_materials_specular); they were checked above, so it need not see the list.
+    root.extensions_required.clear();
+    let unbounded = fill_position_bounds(&mut root);
+    let doc = gltf::Document::from_json(root).map_err(|e| err(e.to_string()))?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    let buffers = buffers::load(&doc, base, bin).map_err(err)?;
+
+    let mut scene = Scene { path: path.to_owned(), ..Scene::default() };
+    if unbounded > 0 {
+        let msg = format!("{unbounded} POSITION accessor(s) lack the min/max glTF requires; not needed here");
+        scene.warnings.push(format!("{}: {msg}", path.display()));
+    }
+    for ext in doc.extensions_used().filter(|e| !HANDLED_EXTENSIONS.contains(e)) {
+        scene.warnings.push(format!("{}: extension {ext} is not supported; ignored", path.display()));
+    }
+    scene.materials = doc.materials().map(|m| material::convert(&m, path, &mut scene.warnings)).collect();
+    let mut loader = Loader { path, buffers: &buffers, scene, default_material: None };
+    loader.traverse(&doc)?;
+    Ok(loader.scene)
+}
+
+/// State while walking the node hierarchy.
+struct Loader<'a> {
+    path: &'a Path,
+    buffers: &'a [Vec<u8>],
+    scene: Scene,
+    /// Index of glTF's default material once a primitive without a material needed it.
+    default_material: Option<u32>,
+}
+
+impl Loader<'_> {
+    fn error(&self, message: String) -> TracerError {
+        TracerError::scene(self.path, message)
+    }
+
+    fn warn(&mut self, message: String) {
+        self.scene.warnings.push(format!("{}: {message}", self.path.display()));
+    }
+
+    /// Visits the default scene (else scene 0, else every root node) depth first, parents before
+    /// children, in file order: cameras are listed in this order.
+    fn traverse(&mut self, doc: &gltf::Document) -> Result<()> {
+        let roots: Vec<gltf::Node> = match doc.default_scene().or_else(|| doc.scenes().next()) {
+            Some(scene) => scene.nodes().collect(),
+            None => {
+                let mut is_child = vec![false; doc.nodes().len()];
+                for child in doc.nodes().flat_map(|n| n.children()) {
+                    if let Some(c) = is_child.get_mut(child.index()) {
+                        *c = true;
+                    }
+                }
+                doc.nodes().filter(|n| !is_child.get(n.index()).copied().unwrap_or(false)).collect()
+            }
+        };
+        // An explicit stack: a hostile file's deep hierarchy cannot overflow the thread's stack.
+        let mut stack: Vec<(gltf::Node, Affine3A)> =
+            roots.into_iter().rev().map(|n| (n, Affine3A::IDENTITY)).collect();
+        let mut visited = vec![false; doc.nodes().len()];
+        while let Some((node, parent)) = stack.pop() {
+            let label = node_label(&node);
+            match visited.get_mut(node.index()) {
+                Some(seen) if !*seen => *seen = true,
+                _ => {
+                    return Err(self.error(format!(
+                        "{label} is reached twice in the node hierarchy (a cycle or a second parent); glTF nodes must form trees"
+                    )));
+                }
+            }
+            let world = parent * local_transform(&node);
+            if !world.is_finite() {
+                return Err(self.error(format!("{label} has a non-finite transform")));
+            }
+            if let Some(mesh) = node.mesh() {
+                self.mesh(&mesh, &world)?;
+            }
+            if node.skin().is_some() {
+                self.warn(format!("{label}: skinning is not supported; the mesh is drawn in its bind pose"));
+            }
+            if let Some(camera) = node.camera() {
+                self.camera(doc, &node, &camera, world)?;
+            }
+            if let Some(light) = node.light() {
+                self.light(&light, &world);
+            }
+            let children: Vec<_> = node.children().collect();
+            stack.extend(children.into_iter().rev().map(|c| (c, world)));
+        }
+        Ok(())
+    }
+
+    /// Flattens a mesh's triangle primitives into the scene through `world`.
+    fn mesh(&mut self, mesh: &gltf::Mesh, world: &Affine3A) -> Result<()> {
+        let m = Mat3::from(world.matrix3);
+        let det = m.determinant();
+        // Normals transform by the inverse transpose; the cofactor matrix is that times det, so
+        // it stays finite for singular transforms. Its sign is fixed by sign(det) so a mirrored
+        // node's normals still point out of the (re-wound) front face.
+        let cofactor =
+            Mat3::from_cols(m.y_axis.cross(m.z_axis), m.z_axis.cross(m.x_axis), m.x_axis.cross(m.y_axis))
+                * det.signum();
+        for prim in mesh.primitives() {
+            let what =
+                format!("mesh {} ('{}') primitive {}", mesh.index(), mesh.name().unwrap_or(""), prim.index());
+            let path = self.path;
+            let fail = |m: String| TracerError::scene(path, format!("{what}: {m}"));
+            let mode = prim.mode();
+            if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
+                self.warn(format!("{what}: {mode:?} primitives are not rendered; skipped"));
+                continue;
+            }
+            let Some(pos_accessor) = prim.get(&Semantic::Positions) else {
+                self.warn(format!("{what}: no POSITION attribute; skipped"));
+                continue;
+            };
+            if prim.morph_targets().next().is_some() {
+                self.warn(format!("{what}: morph targets are not supported; drawn without them"));
+            }
+            let mut positions = accessor::read_vec3(&pos_accessor, self.buffers, "POSITION").map_err(fail)?;
+            let normals = match prim.get(&Semantic::Normals) {
+                Some(a) => Some(accessor::read_vec3(&a, self.buffers, "NORMAL").map_err(fail)?),
+                None => None,
+            };
+            let uvs = match prim.get(&Semantic::TexCoords(0)) {
+                Some(a) => Some(accessor::read_uv(&a, self.buffers).map_err(fail)?),
+                None => None,
+            };
+            let mut indices = match prim.indices() {
+                Some(a) => accessor::read_indices(&a, self.buffers).map_err(fail)?,
+                None => {
+                    let n =
+                        u32::try_from(positions.len()).map_err(|_| fail("more than 2^32 vertices".into()))?;
+                    (0..n).collect()
+                }
+            };
+            indices = match mode {
+                Mode::TriangleStrip => strip_to_list(&indices),
+                Mode::TriangleFan => fan_to_list(&indices),
+                _ => indices,
+            };
+            if det < 0.0 {
+                // A mirroring transform turns counter-clockwise into clockwise: swap back.
+                indices.chunks_exact_mut(3).for_each(|t| t.swap(1, 2));
+            }
+            positions.iter_mut().for_each(|p| *p = world.transform_point3(*p));
+            let normals = normals
+                .map(|ns| ns.into_iter().map(|n| (cofactor * n).normalize_or_zero()).collect::<Vec<_>>());
+            let material = match prim.material().index() {
+                Some(i) => i as u32,
+                None => self.default_material(),
+            };
+            let part = MeshPart {
+                positions: &positions,
+                normals: normals.as_deref(),
+                uvs: uvs.as_deref(),
+                indices: Some(&indices),
+                material,
+            };
+            self.scene.mesh.push(part).map_err(fail)?;
+        }
+        Ok(())
+    }
+
+    /// glTF's default material (spec §3.9.2), added to the scene the first time it is needed.
+    fn default_material(&mut self) -> u32 {
+        *self.default_material.get_or_insert_with(|| {
+            self.scene.materials.push(material::gltf_default());
+            (self.scene.materials.len() - 1) as u32
+        })
+    }
+
+    fn camera(
+        &mut self,
+        doc: &gltf::Document,
+        node: &gltf::Node,
+        camera: &gltf::Camera,
+        world: Affine3A,
+    ) -> Result<()> {
+        use gltf::json::camera::Type;
+        use gltf::json::validation::Checked;
+        let name = [node.name(), camera.name()]
+            .into_iter()
+            .flatten()
+            .find(|n| !n.is_empty())
+            .map_or_else(|| format!("camera{}", self.scene.cameras.len()), str::to_owned);
+        // Read from the JSON: the gltf crate's `projection()` panics when `type` names an object
+        // the camera lacks, which its validator lets through. The aspect ratio is ignored: the
+        // resolution is the renderer's choice (as in Blender).
+        let json = doc.as_json().cameras.get(camera.index());
+        let projection = match json.map(|c| (c.type_, &c.perspective, &c.orthographic)) {
+            Some((Checked::Valid(Type::Perspective), Some(p), _)) => {
+                Projection::Perspective { fov_y: p.yfov }
+            }
+            Some((Checked::Valid(Type::Orthographic), _, Some(o))) => {
+                Projection::Orthographic { half_height: o.ymag }
+            }
+            _ => {
+                return Err(self.error(format!(
+                    "camera {} ('{name}') lacks the projection object its type names",
+                    camera.index()
+                )));
+            }
+        };
+        self.scene.cameras.push(CameraDesc { name, world_from_camera: world, projection });
+        Ok(())
+    }
+
+    fn light(&mut self, light: &gltf::khr_lights_punctual::Light, world: &Affine3A) {
+        use gltf::khr_lights_punctual::Kind;
+        let label = format!("light {} ('{}')", light.index(), light.name().unwrap_or(""));
+        match light.kind() {
+            Kind::Point => {
+                // glTF gives candela; Blender's exporter writes W/(4π) × 683 (NOTES.md), so
+                // radiant intensity in W/sr = candela / 683 reproduces the Blender scene.
+                let intensity = Vec3::from(light.color()) * (light.intensity() / 683.0);
+                let position = Vec3::from(world.translation);
+                self.scene.lights.push(super::PunctualLight::Point { position, intensity });
+            }
+            Kind::Spot { .. } => self.warn(format!("{label}: spot lights are not supported yet; skipped")),
+            Kind::Directional => {
+                self.warn(format!("{label}: directional lights are not supported yet; skipped"))
+            }
+        }
+    }
+}
+
+/// Gives POSITION accessors without `min`/`max` placeholder bounds so the gltf crate's
+/// validator accepts them: the bounds are a hint the tracer never reads, and refusing an
+/// otherwise sound file over them would help nobody. Returns how many were filled.
+fn fill_position_bounds(root: &mut gltf::json::Root) -> usize {
+    use gltf::json::validation::Checked;
+    let positions: Vec<usize> = root
+        .meshes
+        .iter()
+        .flat_map(|m| &m.primitives)
+        .filter_map(|p| p.attributes.get(&Checked::Valid(Semantic::Positions)))
+        .map(|i| i.value())
+        .collect();
+    let mut filled = 0;
+    for i in positions {
+        if let Some(a) = root.accessors.get_mut(i).filter(|a| a.min.is_none() || a.max.is_none()) {
+            a.min.get_or_insert_with(|| serde_json::json!([0.0, 0.0, 0.0]));
+            a.max.get_or_insert_with(|| serde_json::json!([0.0, 0.0, 0.0]));
+            filled += 1;
+        }
+    }
+    filled
+}
+
+fn node_label(node: &gltf::Node) -> String {
+    match node.name() {
+        Some(name) => format!("node {} ('{name}')", node.index()),
+        None => format!("node {}", node.index()),
+    }
+}
+
+/// A node's transform relative to its parent (TRS composed as T · R · S, or the matrix).
+fn local_transform(node: &gltf::Node) -> Affine3A {
+    match node.transform() {
+        gltf::scene::Transform::Matrix { matrix } => Affine3A::from_mat4(Mat4::from_cols_array_2d(&matrix)),
+        gltf::scene::Transform::Decomposed { translation, rotation, scale } => {
+            // Exporters write unit quaternions to float precision only; renormalise. A zero
+            // quaternion has no rotation to recover and yields NaN, reported by the caller.
+            let q = Quat::from_array(rotation);
+            let q = q / q.length();
+            Affine3A::from_scale_rotation_translation(scale.into(), q, translation.into())
+        }
+    }
+}
+
+/// Triangle strip to list, keeping every triangle counter-clockwise (glTF spec §3.7.2.1).
+fn strip_to_list(strip: &[u32]) -> Vec<u32> {
+    strip
+        .windows(3)
+        .enumerate()
+        .flat_map(|(i, w)| if i % 2 == 0 { [w[0], w[1], w[2]] } else { [w[0], w[2], w[1]] })
+        .collect()
+}
+
+/// Triangle fan to list (glTF spec §3.7.2.1: triangle i is (p[i+1], p[i+2], p[0])).
+fn fan_to_list(fan: &[u32]) -> Vec<u32> {
+    match fan.split_first() {
+        Some((&centre, rest)) => rest.windows(2).flat_map(|w| [w[0], w[1], centre]).collect(),
+        None => Vec::new(),
+    }
+}
