@@ -1,0 +1,56 @@
+//! Image files: linear float OpenEXR for renders and references, 8-bit sRGB PNG for previews and
+//! for already-8-bit images (the collage's camera-id stamps).
+//!
+//! Every writer is atomic ([`crate::atomic`]): the file appears complete or not at all, even when
+//! encoding fails half-way. Every reader refuses absurd sizes from the header before it
+//! allocates (see [`MAX_PIXELS`]) and reports a malformed file as
+//! [`TracerError::Image`](crate::TracerError::Image) naming the file and the problem, never by
+//! panicking (the tests feed truncated and byte-damaged files; the exr crate did not panic on
+//! thousands of them, so there is no `catch_unwind`).
+//!
+//! - [`write_exr`] / [`read_exr`] / [`read_exr_rgb`]: one single-part scan-line file holding the
+//!   beauty image in channels `R`, `G`, `B`, each AOV as a channel-name layer (`albedo.R`,
+//!   `depth.Y` …, the OpenEXR 1 layer convention every compositor reads) and string metadata as
+//!   header attributes.
+//! - [`write_png_srgb`], [`write_png_rgb8`], [`write_png_rgba8`], [`read_png8`], and the sRGB
+//!   transfer functions [`linear_to_srgb8`] / [`srgb8_to_linear`].
+
+mod exr_file;
+mod png_file;
+
+pub use exr_file::{Aov, ExrImage, ExrLayer, read_exr, read_exr_rgb, write_exr};
+pub use png_file::{
+    Png8, linear_to_srgb8, read_png8, srgb8_to_linear, write_png_rgb8, write_png_rgba8, write_png_srgb,
+};
+
+/// The most pixels (width × height) a reader accepts from a file's header: 2^28 (e.g.
+/// 16384 × 16384), 3 GiB as linear RGB f32. Larger claims are refused before anything is
+/// allocated, so a corrupt or hostile header cannot exhaust memory.
+pub const MAX_PIXELS: u64 = 1 << 28;
+
+/// The most channel samples (pixels × channels, summed over all layers) [`read_exr`] accepts:
+/// 2^30, 4 GiB as f32.
+pub const MAX_SAMPLES: u64 = 1 << 30;
+
+/// Checks that an in-memory image of `width × height` holding `len` values, `per_pixel` to a
+/// pixel, is consistent and writable; returns the pixel count. `what` names it in the message.
+fn check_dimensions(
+    width: u32,
+    height: u32,
+    len: usize,
+    per_pixel: usize,
+    what: &str,
+) -> Result<usize, String> {
+    if width == 0 || height == 0 {
+        return Err(format!("{what} is {width} × {height}: an image file needs at least one pixel"));
+    }
+    let pixels = width as u64 * height as u64;
+    if pixels > MAX_PIXELS {
+        return Err(format!("{what} is {width} × {height}, more than the {MAX_PIXELS} pixels allowed"));
+    }
+    let expected = pixels as usize * per_pixel;
+    if len != expected {
+        return Err(format!("{what} is {width} × {height} but holds {len} values instead of {expected}"));
+    }
+    Ok(pixels as usize)
+}
