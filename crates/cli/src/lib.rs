@@ -1,1 +1,77 @@
-//! cli placeholder
+//! The `mcctrace` command line (SPEC §8): parses arguments, reports progress and errors, and
+//! calls the `tracer` and `mcc` libraries. Nothing here renders or remaps by itself.
+
+mod args;
+mod demo;
+mod info;
+mod output;
+mod progress;
+mod render;
+
+use clap::{Parser, Subcommand};
+use std::ffi::OsString;
+use std::process::ExitCode;
+
+/// mcctrace: a CPU path tracer with a multicamera collage built into its camera.
+#[derive(Parser, Debug)]
+#[command(name = "mcctrace", version, about, long_about = None, propagate_version = true)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Render a scene from one or more cameras to OpenEXR (+ an sRGB PNG preview).
+    Render(render::RenderArgs),
+    /// Show what a scene holds: cameras, triangles, materials, lights, warnings.
+    Info(info::InfoArgs),
+    /// Run the main job on the bundled scene and write every picture to one folder.
+    Demo(demo::DemoArgs),
+}
+
+/// Runs the command line `args` (program name first); errors are printed, not panicked.
+pub fn main_with_args<I, T>(args: I) -> ExitCode
+where
+    I: IntoIterator<Item = T>,
+    T: Into<OsString> + Clone,
+{
+    let cli = match Cli::try_parse_from(args) {
+        Ok(cli) => cli,
+        Err(e) => {
+            // --help and --version are "errors" that print to stdout and succeed.
+            let _ = e.print();
+            return if e.use_stderr() { ExitCode::from(2) } else { ExitCode::SUCCESS };
+        }
+    };
+    match run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// Runs a parsed command line.
+pub fn run(cli: Cli) -> anyhow::Result<()> {
+    match cli.command {
+        Command::Render(a) => render::run(a),
+        Command::Info(a) => info::run(a),
+        Command::Demo(a) => demo::run(a),
+    }
+}
+
+/// Runs `work` on a rayon pool of `threads` threads (all cores when `None`).
+pub(crate) fn with_threads<R: Send>(
+    threads: Option<usize>,
+    work: impl FnOnce() -> R + Send,
+) -> anyhow::Result<R> {
+    let mut builder = rayon::ThreadPoolBuilder::new();
+    if let Some(n) = threads {
+        anyhow::ensure!(n > 0, "--threads must be at least 1");
+        builder = builder.num_threads(n);
+    }
+    let pool = builder.build()?;
+    Ok(pool.install(work))
+}

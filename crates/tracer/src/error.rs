@@ -8,14 +8,14 @@ pub type LensError = Box<dyn std::error::Error + Send + Sync + 'static>;
 /// Everything that can go wrong loading a scene, rendering or writing an image.
 #[derive(Debug, thiserror::Error)]
 pub enum TracerError {
-    /// A file could not be read or written.
-    #[error("{}: {source}", path.display())]
+    /// A file could not be read or written. (The OS error is part of the message, not a
+    /// separate `source()`, so error chains do not print it twice.)
+    #[error("{}: {error}", path.display())]
     Io {
         /// The file.
         path: PathBuf,
         /// What the operating system said.
-        #[source]
-        source: std::io::Error,
+        error: std::io::Error,
     },
     /// A scene file is malformed or holds something the tracer cannot use.
     #[error("{}: {message}", path.display())]
@@ -47,13 +47,12 @@ pub enum TracerError {
     #[error("invalid setting: {0}")]
     Settings(String),
     /// A lens shader failed in its per-frame set-up or tear-down.
-    #[error("lens shader '{shader}': {source}")]
+    #[error("lens shader '{shader}': {error}")]
     Lens {
         /// The lens shader's name.
         shader: String,
-        /// Its error.
-        #[source]
-        source: LensError,
+        /// Its error (in the message, not a separate `source()`).
+        error: LensError,
     },
 }
 
@@ -69,8 +68,8 @@ impl TracerError {
     }
 
     /// Shorthand for an I/O error about `path`.
-    pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
-        Self::Io { path: path.into(), source }
+    pub fn io(path: impl Into<PathBuf>, error: std::io::Error) -> Self {
+        Self::Io { path: path.into(), error }
     }
 }
 

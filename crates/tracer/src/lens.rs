@@ -107,7 +107,7 @@ impl LensChain {
             let shader = &mut rest[0];
             shader
                 .begin_frame(&ctx)
-                .map_err(|source| TracerError::Lens { shader: shader.name().to_owned(), source })?;
+                .map_err(|error| TracerError::Lens { shader: shader.name().to_owned(), error })?;
         }
         Ok(())
     }
@@ -121,7 +121,7 @@ impl LensChain {
             let shader = &mut rest[0];
             shader
                 .end_frame(&ctx)
-                .map_err(|source| TracerError::Lens { shader: shader.name().to_owned(), source })?;
+                .map_err(|error| TracerError::Lens { shader: shader.name().to_owned(), error })?;
         }
         Ok(())
     }

@@ -1,0 +1,273 @@
+//! `mcctrace render`: render a scene from one or more cameras (SPEC §3, §8).
+
+use crate::args::{Resolution, Vec3Arg};
+use crate::output::{RenderInfo, write_render};
+use crate::progress::Bar;
+use crate::with_threads;
+use anyhow::{Context, bail};
+use clap::{Args, ValueEnum};
+use std::path::{Path, PathBuf};
+use tracer::camera::{CameraDesc, Projection};
+use tracer::integrator::{IntegratorConfig, PathTracer};
+use tracer::lens::LensChain;
+use tracer::render::{RenderSettings, Rendered, render};
+use tracer::scene::{CameraSelector, Scene};
+
+/// Camera models selectable from the command line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Model {
+    /// Pinhole perspective (vertical field of view --fov).
+    Perspective,
+    /// Parallel projection (window height 2 × --ortho-half-height).
+    Orthographic,
+    /// Perspective with depth of field (--lens-radius, --focus-distance).
+    ThinLens,
+    /// Equidistant fisheye (image circle spans --fov, default 180°).
+    Fisheye,
+    /// Full 360° × 180° latitude–longitude panorama.
+    Equirectangular,
+}
+
+/// Scene and camera choice shared by every command that renders.
+#[derive(Args, Debug, Clone)]
+pub struct SceneArgs {
+    /// Scene file (.gltf, .glb, .obj) or a directory of .obj files.
+    pub scene: PathBuf,
+    /// Camera of the scene, by name or 0-based index; repeat for several views (numbered 1, 2,
+    /// … in this order). Default: the scene's first camera.
+    #[arg(long = "camera", value_name = "NAME|INDEX")]
+    pub cameras: Vec<String>,
+    /// Ad-hoc camera position (for scenes without cameras, e.g. OBJ), as x,y,z.
+    #[arg(long, value_name = "X,Y,Z", requires = "look_at", conflicts_with = "cameras")]
+    pub look_from: Option<Vec3Arg>,
+    /// Ad-hoc camera target, as x,y,z.
+    #[arg(long, value_name = "X,Y,Z", requires = "look_from")]
+    pub look_at: Option<Vec3Arg>,
+    /// Ad-hoc camera up direction.
+    #[arg(long, value_name = "X,Y,Z", default_value = "0,1,0")]
+    pub up: Vec3Arg,
+    /// Vertical field of view in degrees (ad-hoc cameras; the fisheye's full angle).
+    #[arg(long, value_name = "DEGREES")]
+    pub fov: Option<f32>,
+    /// Camera model, overriding the scene camera's projection (its position is kept).
+    #[arg(long, value_enum)]
+    pub model: Option<Model>,
+    /// Thin-lens aperture radius, in scene units.
+    #[arg(long, default_value_t = 0.0)]
+    pub lens_radius: f32,
+    /// Thin-lens focus distance, in scene units.
+    #[arg(long, default_value_t = 1.0)]
+    pub focus_distance: f32,
+    /// Orthographic half height, in scene units.
+    #[arg(long, default_value_t = 1.0)]
+    pub ortho_half_height: f32,
+}
+
+/// Sampling and quality settings shared by every command that renders.
+#[derive(Args, Debug, Clone)]
+pub struct QualityArgs {
+    /// Samples per pixel (1 … 65536).
+    #[arg(long, default_value_t = 64)]
+    pub spp: u32,
+    /// Output resolution.
+    #[arg(long, default_value = "640x360", value_name = "WxH")]
+    pub res: Resolution,
+    /// Seed of the sample sequence: the same seed gives the same image bit for bit.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u32,
+    /// Render threads (default: all cores). The image does not depend on it.
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Maximum scattering vertices per path (the Cornell reference uses 4).
+    #[arg(long, default_value_t = IntegratorConfig::DEFAULT.max_depth)]
+    pub max_depth: u32,
+    /// Russian roulette starts after this many scattering vertices.
+    #[arg(long, default_value_t = IntegratorConfig::DEFAULT.rr_depth)]
+    pub rr_depth: u32,
+    /// Environment radiance (constant colour) as r,g,b, replacing the scene's.
+    #[arg(long, value_name = "R,G,B")]
+    pub env: Option<Vec3Arg>,
+    /// Also write albedo, normal, depth and per-sample variance layers into the EXR.
+    #[arg(long)]
+    pub aovs: bool,
+    /// No progress bar or summary.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// Arguments of `mcctrace render`.
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    #[command(flatten)]
+    pub quality: QualityArgs,
+    /// Frame number (used in output names and by lens shaders).
+    #[arg(long, default_value_t = 0)]
+    pub frame: u32,
+    /// Output: an .exr file (one camera), or a directory that receives
+    /// frameFFFFcameraCC.exr and .png per camera.
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+/// A camera to render, with its view number.
+pub struct View {
+    pub id: u32,
+    pub desc: CameraDesc,
+}
+
+/// Loads the scene, reporting its warnings on stderr unless quiet.
+pub fn load_scene(path: &Path, quiet: bool) -> anyhow::Result<Scene> {
+    let scene = Scene::load(path)?;
+    if !quiet {
+        for w in &scene.warnings {
+            eprintln!("warning: {w}");
+        }
+    }
+    Ok(scene)
+}
+
+/// The cameras the arguments select, numbered in command-line order.
+pub fn select_views(scene: &Scene, a: &SceneArgs) -> anyhow::Result<Vec<View>> {
+    let fov = a.fov.map(f32::to_radians);
+    let mut descs = if let (Some(from), Some(at)) = (a.look_from, a.look_at) {
+        let projection = Projection::Perspective { fov_y: fov.unwrap_or(45f32.to_radians()) };
+        vec![CameraDesc::look_at("ad-hoc", from.0, at.0, a.up.0, projection)?]
+    } else if a.cameras.is_empty() {
+        vec![scene.camera(&CameraSelector::Index(0))?.clone()]
+    } else {
+        a.cameras
+            .iter()
+            .map(|c| scene.camera(&CameraSelector::parse(c)).cloned())
+            .collect::<Result<_, _>>()?
+    };
+    if let Some(model) = a.model {
+        for d in &mut descs {
+            let scene_fov = match d.projection {
+                Projection::Perspective { fov_y } | Projection::ThinLens { fov_y, .. } => Some(fov_y),
+                _ => None,
+            };
+            let fov_y = fov.or(scene_fov).unwrap_or(45f32.to_radians());
+            d.projection = match model {
+                Model::Perspective => Projection::Perspective { fov_y },
+                Model::Orthographic => Projection::Orthographic { half_height: a.ortho_half_height },
+                Model::ThinLens => Projection::ThinLens {
+                    fov_y,
+                    lens_radius: a.lens_radius,
+                    focus_distance: a.focus_distance,
+                },
+                Model::Fisheye => Projection::Fisheye { fov: fov.unwrap_or(std::f32::consts::PI) },
+                Model::Equirectangular => Projection::Equirectangular,
+            };
+        }
+    } else if fov.is_some() && a.look_from.is_none() {
+        bail!("--fov applies to ad-hoc cameras and --model; scene cameras keep their own field of view");
+    }
+    Ok(descs.into_iter().zip(1..).map(|(desc, id)| View { id, desc }).collect())
+}
+
+/// The integrator configuration the arguments ask for.
+pub fn integrator_config(q: &QualityArgs) -> IntegratorConfig {
+    IntegratorConfig::DEFAULT.with_max_depth(q.max_depth).with_rr_depth(q.rr_depth)
+}
+
+/// Prepares the scene for tracing (BVH, lights) with the quality settings applied.
+pub fn prepare(scene: &mut Scene, q: &QualityArgs) -> anyhow::Result<PathTracer> {
+    if let Some(env) = q.env {
+        scene.environment.color = env.0;
+    }
+    Ok(PathTracer::new(scene, integrator_config(q))?)
+}
+
+/// Renders one view with a progress bar and prints a summary line.
+pub fn render_view(
+    tracer: &PathTracer,
+    view: &View,
+    lenses: &mut LensChain,
+    q: &QualityArgs,
+    frame: u32,
+) -> anyhow::Result<Rendered> {
+    let camera = view.desc.build(q.res.0)?;
+    let settings = RenderSettings {
+        spp: q.spp,
+        seed: q.seed,
+        frame,
+        camera_id: view.id,
+        shutter: (0.0, 0.0),
+        aovs: q.aovs,
+    };
+    let bar = Bar::new(q.res.0.x as u64 * q.res.0.y as u64, &view.desc.name, q.quiet);
+    let rendered = with_threads(q.threads, || render(tracer, camera.as_ref(), lenses, &settings, &bar))?;
+    bar.finish();
+    let rendered = rendered.with_context(|| format!("rendering camera '{}'", view.desc.name))?;
+    if rendered.stats.nonfinite_samples > 0 {
+        eprintln!(
+            "warning: camera '{}': {} samples were NaN or infinite and were recorded as black",
+            view.desc.name, rendered.stats.nonfinite_samples
+        );
+    }
+    Ok(rendered)
+}
+
+/// One line about a finished render.
+pub fn summary(name: &str, q: &QualityArgs, r: &Rendered, out: &Path) -> String {
+    let s = &r.stats;
+    format!(
+        "{name}: {} at {} spp in {:.2} s ({:.2} M samples/s, {:.1} M rays/s) -> {}",
+        q.res,
+        q.spp,
+        s.seconds,
+        s.samples as f64 / s.seconds / 1e6,
+        s.rays as f64 / s.seconds / 1e6,
+        out.display()
+    )
+}
+
+/// Where each view's EXR goes: `out` itself for one view and an .exr path, else SPEC names in
+/// the directory `out`.
+pub fn output_paths(out: &Path, views: &[View], frame: u32) -> anyhow::Result<Vec<PathBuf>> {
+    let is_file = out.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+    if is_file {
+        if views.len() != 1 {
+            bail!(
+                "--out {} names one file but {} cameras were given: give a directory",
+                out.display(),
+                views.len()
+            );
+        }
+        if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+        }
+        return Ok(vec![out.to_path_buf()]);
+    }
+    if out.extension().is_some() && !out.is_dir() {
+        bail!("--out {}: expected an .exr file or a directory", out.display());
+    }
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    Ok(views.iter().map(|v| out.join(format!("frame{frame:04}camera{:02}.exr", v.id))).collect())
+}
+
+pub fn run(a: RenderArgs) -> anyhow::Result<()> {
+    let q = &a.quality;
+    let mut scene = load_scene(&a.scene.scene, q.quiet)?;
+    let views = select_views(&scene, &a.scene)?;
+    let outputs = output_paths(&a.out, &views, a.frame)?;
+    let tracer = prepare(&mut scene, q)?;
+    for (view, exr) in views.iter().zip(&outputs) {
+        let rendered = render_view(&tracer, view, &mut LensChain::new(), q, a.frame)?;
+        let info = RenderInfo {
+            scene: &a.scene.scene,
+            camera: &view.desc.name,
+            spp: q.spp,
+            seed: q.seed,
+            max_depth: q.max_depth,
+            frame: a.frame,
+        };
+        write_render(exr, &rendered, &info, q.aovs)?;
+        if !q.quiet {
+            eprintln!("{}", summary(&view.desc.name, q, &rendered, exr));
+        }
+    }
+    Ok(())
+}
