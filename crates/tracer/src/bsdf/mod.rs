@@ -147,7 +147,8 @@ impl Bsdf {
         let s = self.ggx.d(h) * self.ggx.g2(wo, wi) / (4.0 * wo.z * wi.z);
         let f = self.diffuse * (1.0 - self.specular * fd.max_element())
             + (self.dielectric_weight * fd + self.metal_weight * fm) * s;
-        let pdf = (1.0 - self.p_specular) * lambert::pdf(wi) + self.p_specular * self.ggx.pdf_reflection(wo, h);
+        let pdf =
+            (1.0 - self.p_specular) * lambert::pdf(wi) + self.p_specular * self.ggx.pdf_reflection(wo, h);
         (f, pdf)
     }
 
@@ -232,7 +233,10 @@ mod tests {
                 // sphere: a few hundred of the samples, ~6 % noise).
                 if roughness >= 0.5 {
                     let (_, uni) = albedo(&bsdf, 1 << 18);
-                    assert!((is - uni).abs().max_element() < 0.03, "roughness {roughness} cos {cos_o}: {is} vs {uni}");
+                    assert!(
+                        (is - uni).abs().max_element() < 0.03,
+                        "roughness {roughness} cos {cos_o}: {is} vs {uni}"
+                    );
                 }
             }
         }
@@ -273,7 +277,12 @@ mod tests {
         let below = Bsdf::new(&material(0.8, 0.0, 1.0, 0.0), Vec3::Z, Vec3::Z, Vec3::new(0.0, 0.6, -0.8));
         assert!(below.eval(Vec3::new(0.0, 0.0, -1.0)).0.x > 0.0);
         // A grazing wo below a tilted shading normal gives finite values.
-        let tilted = Bsdf::new(&material(0.8, 0.5, 0.3, 1.0), Vec3::new(0.3, 0.0, 0.95).normalize(), Vec3::Z, Vec3::new(-0.999, 0.0, 0.04).normalize());
+        let tilted = Bsdf::new(
+            &material(0.8, 0.5, 0.3, 1.0),
+            Vec3::new(0.3, 0.0, 0.95).normalize(),
+            Vec3::Z,
+            Vec3::new(-0.999, 0.0, 0.04).normalize(),
+        );
         for i in 0..256 {
             if let Some(s) = tilted.sample(Vec2::new(halton(i, 2), halton(i, 3)), halton(i, 5)) {
                 assert!(s.f.is_finite() && s.pdf.is_finite());
