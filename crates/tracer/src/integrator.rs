@@ -137,7 +137,11 @@ impl PathTracer {
                 let [n0, n1, n2] = normals[t];
                 let n = b0 * n0 + b1 * n1 + b2 * n2;
                 // A zero vertex normal marks a part without normals: shade it flat.
-                if n0 == Vec3::ZERO || n1 == Vec3::ZERO || n2 == Vec3::ZERO { n_geom } else { n.normalize_or(n_geom) }
+                if n0 == Vec3::ZERO || n1 == Vec3::ZERO || n2 == Vec3::ZERO {
+                    n_geom
+                } else {
+                    n.normalize_or(n_geom)
+                }
             }
             None => n_geom,
         };
@@ -148,12 +152,25 @@ impl PathTracer {
             }
             None => Vec2::ZERO,
         };
-        SurfaceInteraction { p, p_error, n_geom, n_shading, uv, triangle: hit.triangle, material: self.material_ids[t] }
+        SurfaceInteraction {
+            p,
+            p_error,
+            n_geom,
+            n_shading,
+            uv,
+            triangle: hit.triangle,
+            material: self.material_ids[t],
+        }
     }
 
     /// Estimates the radiance arriving along `ray`; with `AOV`, records the first hit.
     #[inline]
-    pub fn radiance<const AOV: bool>(&self, ray: Ray, sampler: &mut Sampler, first: &mut FirstHit) -> PathSample {
+    pub fn radiance<const AOV: bool>(
+        &self,
+        ray: Ray,
+        sampler: &mut Sampler,
+        first: &mut FirstHit,
+    ) -> PathSample {
         let mut ray = ray;
         let mut l = Vec3::ZERO;
         let mut beta = Vec3::ONE;

@@ -35,7 +35,13 @@ impl SurfaceInteraction {
     /// A shadow ray towards `target` (on a surface with normal `target_n` and error
     /// `target_error`; a zero normal for a point), and the t up to which blockers count.
     #[inline]
-    pub fn spawn_ray_to(&self, target: Vec3, target_error: Vec3, target_n: Vec3, time: f32) -> Option<(Ray, f32)> {
+    pub fn spawn_ray_to(
+        &self,
+        target: Vec3,
+        target_error: Vec3,
+        target_n: Vec3,
+        time: f32,
+    ) -> Option<(Ray, f32)> {
         let origin = offset_ray_origin(self.p, self.p_error, self.n_geom, target - self.p);
         let end = if target_n == Vec3::ZERO {
             target

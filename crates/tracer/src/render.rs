@@ -106,7 +106,9 @@ pub fn render(
     }
     let (open, close) = settings.shutter;
     if !(open.is_finite() && close.is_finite() && open <= close) {
-        return Err(TracerError::Settings(format!("shutter {open}..{close} must be finite with open ≤ close")));
+        return Err(TracerError::Settings(format!(
+            "shutter {open}..{close} must be finite with open ≤ close"
+        )));
     }
     let frame = FrameInfo {
         frame: settings.frame,

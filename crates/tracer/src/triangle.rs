@@ -180,7 +180,10 @@ mod tests {
             for s in 0..64 {
                 let target = c.lerp(ring[k], s as f32 / 64.0);
                 let r = ray(origin, target - origin);
-                assert!(fan.iter().any(|t| r.intersect(t, f32::INFINITY).is_some()), "leak at edge {k} step {s}");
+                assert!(
+                    fan.iter().any(|t| r.intersect(t, f32::INFINITY).is_some()),
+                    "leak at edge {k} step {s}"
+                );
             }
         }
     }

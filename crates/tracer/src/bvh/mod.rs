@@ -87,10 +87,15 @@ impl Bvh {
         let cwbvh = if aabbs.is_empty() {
             CwBvh::default()
         } else {
-            obvhs::cwbvh::builder::build_cwbvh(&aabbs, BvhBuildParams::medium_build(), &mut Default::default())
+            obvhs::cwbvh::builder::build_cwbvh(
+                &aabbs,
+                BvhBuildParams::medium_build(),
+                &mut Default::default(),
+            )
         };
         let triangle_ids = cwbvh.primitive_indices.clone();
-        let triangles = triangle_ids.iter().map(|&t| mesh.corners(t as usize).map(|p| p.to_array())).collect();
+        let triangles =
+            triangle_ids.iter().map(|&t| mesh.corners(t as usize).map(|p| p.to_array())).collect();
         Self { cwbvh, triangles, triangle_ids }
     }
 
@@ -129,7 +134,12 @@ impl Bvh {
                 best = Some((slot, h));
             }
         });
-        best.map(|(slot, h)| Hit { t: h.t, triangle: self.triangle_ids[slot as usize], slot, barycentrics: h.b })
+        best.map(|(slot, h)| Hit {
+            t: h.t,
+            triangle: self.triangle_ids[slot as usize],
+            slot,
+            barycentrics: h.b,
+        })
     }
 
     /// True when something blocks `ray` in (0, t_max). Stops at the first blocker found.
@@ -164,7 +174,8 @@ mod tests {
     fn mesh_of(tris: &[[Vec3; 3]]) -> Mesh {
         let mut m = Mesh::default();
         let positions: Vec<Vec3> = tris.iter().flatten().copied().collect();
-        m.push(MeshPart { positions: &positions, normals: None, uvs: None, indices: None, material: 0 }).unwrap();
+        m.push(MeshPart { positions: &positions, normals: None, uvs: None, indices: None, material: 0 })
+            .unwrap();
         m
     }
 
@@ -201,7 +212,9 @@ mod tests {
                 let brute = tris
                     .iter()
                     .enumerate()
-                    .filter_map(|(i, t)| wray.intersect(&t.map(|p| p.to_array()), f32::INFINITY).map(|h| (i, h.t)))
+                    .filter_map(|(i, t)| {
+                        wray.intersect(&t.map(|p| p.to_array()), f32::INFINITY).map(|h| (i, h.t))
+                    })
                     .min_by(|a, b| a.1.total_cmp(&b.1));
                 let got = bvh.intersect(&ray, f32::INFINITY).map(|h| (h.triangle as usize, h.t));
                 assert_eq!(got, brute, "scale {scale}");
@@ -216,10 +229,12 @@ mod tests {
     /// −0.0 direction components and axis-parallel rays still hit (obvhs traps).
     #[test]
     fn negative_zero_and_axis_parallel_directions_hit() {
-        let mesh = mesh_of(&[[Vec3::new(-1.0, -1.0, -3.0), Vec3::new(1.0, -1.0, -3.0), Vec3::new(0.0, 1.0, -3.0)]]);
+        let mesh =
+            mesh_of(&[[Vec3::new(-1.0, -1.0, -3.0), Vec3::new(1.0, -1.0, -3.0), Vec3::new(0.0, 1.0, -3.0)]]);
         let bvh = Bvh::build(&mesh);
         let d = Vec3::new(-0.0, -0.0, -1.0);
-        let hit = bvh.intersect(&Ray::new(Vec3::ZERO, d, 0.0), f32::INFINITY).expect("−0.0 direction must hit");
+        let hit =
+            bvh.intersect(&Ray::new(Vec3::ZERO, d, 0.0), f32::INFINITY).expect("−0.0 direction must hit");
         assert!((hit.t - 3.0).abs() < 1e-6);
         let tiny = Vec3::new(1e-9, -1e-9, -1.0).normalize();
         assert!(bvh.intersect(&Ray::new(Vec3::ZERO, tiny, 0.0), f32::INFINITY).is_some());
@@ -229,7 +244,11 @@ mod tests {
     #[test]
     fn near_hits_in_tiny_scenes() {
         let s = 1e-5;
-        let mesh = mesh_of(&[[Vec3::new(-1.0, -1.0, -1.0) * s, Vec3::new(1.0, -1.0, -1.0) * s, Vec3::new(0.0, 1.0, -1.0) * s]]);
+        let mesh = mesh_of(&[[
+            Vec3::new(-1.0, -1.0, -1.0) * s,
+            Vec3::new(1.0, -1.0, -1.0) * s,
+            Vec3::new(0.0, 1.0, -1.0) * s,
+        ]]);
         let bvh = Bvh::build(&mesh);
         let hit = bvh.intersect(&Ray::new(Vec3::ZERO, -Vec3::Z, 0.0), f32::INFINITY).unwrap();
         assert!((hit.t - s).abs() < 1e-11);

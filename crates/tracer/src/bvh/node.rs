@@ -66,10 +66,7 @@ fn child_hits_sse2(node: &CwBvhNode, ray: &NodeRay, t_max: f32) -> u32 {
         let zero = _mm_setzero_si128();
         let bytes = _mm_cvtsi64_si128(i64::from_le_bytes(*q));
         let words = _mm_unpacklo_epi8(bytes, zero);
-        (
-            _mm_cvtepi32_ps(_mm_unpacklo_epi16(words, zero)),
-            _mm_cvtepi32_ps(_mm_unpackhi_epi16(words, zero)),
-        )
+        (_mm_cvtepi32_ps(_mm_unpacklo_epi16(words, zero)), _mm_cvtepi32_ps(_mm_unpackhi_epi16(words, zero)))
     }
     let lo_hi = [
         (&node.child_min_x, &node.child_max_x),
