@@ -5,10 +5,11 @@
 //! maximum depth counted in scattering vertices (the Cornell reference's 4 = Mitsuba's
 //! `max_depth` 5: the light may be reached by the ray leaving the 4th vertex).
 //!
-//! Random-number dimensions are assigned by position in the path, not by consumption order, so
-//! a path that stops early never shifts another decision's numbers: set 0 is the camera
-//! (film and lens), set 1 the shutter time, sets 2 + 2k and 3 + 2k vertex k's light sample and
-//! BSDF sample (direction, lobe, roulette).
+//! Random numbers come in 4-D sets assigned by position in the path (`crate::sampler::sets`):
+//! a path that stops early never shifts another decision's numbers, and each vertex's BSDF
+//! direction shares a set with the next vertex's light sample, so one-bounce light is
+//! stratified in 4-D. One-dimensional decisions (lobe choice, roulette) are drawn only where a
+//! material has two lobes or roulette is active.
 
 use crate::bsdf::Bsdf;
 use crate::bvh::{Bvh, Hit};
@@ -17,7 +18,7 @@ use crate::interaction::SurfaceInteraction;
 use crate::light::LightSampler;
 use crate::material::Material;
 use crate::ray::Ray;
-use crate::sampler::Sampler;
+use crate::sampler::{Sampler, sets};
 use crate::sampling::power_heuristic;
 use crate::scene::Scene;
 use crate::triangle::hit_point;
@@ -164,14 +165,18 @@ impl PathTracer {
     }
 
     /// Estimates the radiance arriving along `ray`; with `AOV`, records the first hit.
+    /// `u_light` is the first vertex's light sample (it shares the camera's set, see
+    /// `crate::sampler::sets`).
     #[inline]
     pub fn radiance<const AOV: bool>(
         &self,
         ray: Ray,
-        sampler: &mut Sampler,
+        sampler: &Sampler,
+        u_light: Vec2,
         first: &mut FirstHit,
     ) -> PathSample {
         let mut ray = ray;
+        let mut u_light = u_light;
         let mut l = Vec3::ZERO;
         let mut beta = Vec3::ONE;
         let mut rays = 0u32;
@@ -213,8 +218,6 @@ impl PathTracer {
             }
 
             // Next-event estimation.
-            sampler.start_set(2 + 2 * depth);
-            let u_light = sampler.next_2d();
             if let Some(ls) = self.lights.sample(si.p, u_light) {
                 let (f, bsdf_pdf) = bsdf.eval(ls.wi);
                 if f != Vec3::ZERO {
@@ -230,14 +233,21 @@ impl PathTracer {
             }
 
             // Continue the path by sampling the BSDF.
-            let [u0, u1, u_lobe, u_rr] = sampler.next_4d();
+            let [u0, u1, l0, l1] = sampler.get(sets::vertex(depth));
+            u_light = Vec2::new(l0, l1);
+            let roulette = depth + 1 >= self.config.rr_depth;
+            let [u_lobe, u_rr, _, _] = if bsdf.has_lobe_choice() || roulette {
+                sampler.get(sets::decisions(depth))
+            } else {
+                [0.5; 4]
+            };
             let Some(bs) = bsdf.sample(Vec2::new(u0, u1), u_lobe) else { break };
             beta *= bs.f * (bs.cos / bs.pdf);
             prev_bsdf_pdf = bs.pdf;
             ray = si.spawn_ray(bs.wi, ray.time);
             depth += 1;
 
-            if depth >= self.config.rr_depth {
+            if roulette {
                 let q = (1.0 - beta.max_element()).max(0.0);
                 if u_rr < q {
                     break;

@@ -10,7 +10,7 @@ use crate::error::{Result, TracerError};
 use crate::film::{Film, FilmImages, PixelAccumulator};
 use crate::integrator::{FirstHit, PathTracer};
 use crate::lens::{FrameInfo, LensChain, RayGenerator};
-use crate::sampler::{MAX_SAMPLES_PER_PIXEL, Sampler};
+use crate::sampler::{MAX_SAMPLES_PER_PIXEL, Sampler, sets};
 use glam::{UVec2, Vec2};
 use rayon::prelude::*;
 use std::time::Instant;
@@ -120,9 +120,9 @@ pub fn render(
     let (pixels, rays) = {
         let generator = lenses.generator(camera);
         if settings.aovs {
-            trace_film::<true>(tracer, &generator, res, settings, progress)
+            trace_film::<true>(tracer, &generator, camera.uses_lens(), res, settings, progress)
         } else {
-            trace_film::<false>(tracer, &generator, res, settings, progress)
+            trace_film::<false>(tracer, &generator, camera.uses_lens(), res, settings, progress)
         }
     };
     let seconds = start.elapsed().as_secs_f64();
@@ -143,6 +143,7 @@ pub fn render(
 fn trace_film<const AOV: bool>(
     tracer: &PathTracer,
     generator: &dyn RayGenerator,
+    uses_lens: bool,
     res: UVec2,
     settings: &RenderSettings,
     progress: &dyn Progress,
@@ -151,6 +152,8 @@ fn trace_film<const AOV: bool>(
     let tiles_y = res.y.div_ceil(TILE);
     let frame_time = settings.frame as f32 + settings.shutter.0;
     let shutter_length = settings.shutter.1 - settings.shutter.0;
+    // Pinhole cameras and instantaneous shutters draw no lens or time numbers.
+    let needs_lens_time = uses_lens || shutter_length > 0.0;
     let tiles: Vec<(Vec<PixelAccumulator>, u64)> = (0..tiles_x * tiles_y)
         .into_par_iter()
         .map(|tile| {
@@ -165,25 +168,21 @@ fn trace_film<const AOV: bool>(
                     let pixel = UVec2::new(x, y);
                     let mut acc = PixelAccumulator::default();
                     for index in 0..settings.spp {
-                        let mut sampler = Sampler::new(pixel, index, settings.seed);
-                        let [jx, jy, lx, ly] = sampler.next_4d();
-                        let time = if shutter_length > 0.0 {
-                            sampler.start_set(1);
-                            frame_time + shutter_length * sampler.next_4d()[0]
-                        } else {
-                            frame_time
-                        };
+                        let sampler = Sampler::new(pixel, index, settings.seed);
+                        let [jx, jy, l0, l1] = sampler.get(sets::CAMERA);
+                        let [lens_u, lens_v, u_time, _] =
+                            if needs_lens_time { sampler.get(sets::LENS_TIME) } else { [0.5; 4] };
                         let sample = CameraSample {
                             p_film: Vec2::new(x as f32 + jx, y as f32 + jy),
-                            p_lens: Vec2::new(lx, ly),
-                            time,
+                            p_lens: Vec2::new(lens_u, lens_v),
+                            time: frame_time + shutter_length * u_time,
                         };
                         let Some(ray) = generator.generate(&sample) else {
                             acc.drop_sample();
                             continue;
                         };
                         let mut first = FirstHit::default();
-                        let path = tracer.radiance::<AOV>(ray, &mut sampler, &mut first);
+                        let path = tracer.radiance::<AOV>(ray, &sampler, Vec2::new(l0, l1), &mut first);
                         rays += path.rays as u64;
                         acc.add(path.radiance);
                         if AOV {

@@ -9,17 +9,36 @@
 //! randomised low-discrepancy sequence (error falls faster than with independent samples) while
 //! neighbouring pixels stay decorrelated (noise, not structured artefacts).
 
-use glam::{UVec2, Vec2};
+use glam::UVec2;
 
 /// The largest sample count per pixel the sequence supports (sobol_burley's 2^16).
 pub const MAX_SAMPLES_PER_PIXEL: u32 = 1 << 16;
 
-/// The random numbers of one sample of one pixel, handed out in 4-D sets.
+/// Which 4-D set each decision of a camera sample draws from. Sets are assigned by position in
+/// the path, never by consumption order, and the pairing inside a set is chosen so that
+/// integrands that depend on two decisions together are stratified jointly:
+/// - the film position and the first vertex's light sample (direct light seen by a pixel);
+/// - vertex k's BSDF direction and vertex k + 1's light sample (one-bounce light).
+pub mod sets {
+    /// Film x, film y, light sample u, v at the first vertex.
+    pub const CAMERA: u32 = 0;
+    /// Lens u, v and shutter time (drawn only by cameras with a lens, renders with a shutter).
+    pub const LENS_TIME: u32 = 1;
+    /// Vertex k: BSDF direction u, v, then the light sample u, v of vertex k + 1.
+    pub const fn vertex(k: u32) -> u32 {
+        2 + k
+    }
+    /// Vertex k's one-dimensional decisions: lobe choice, Russian roulette.
+    pub const fn decisions(k: u32) -> u32 {
+        0x4000_0000 + k
+    }
+}
+
+/// The random numbers of one sample of one pixel, in padded 4-D sets.
 #[derive(Clone, Copy, Debug)]
 pub struct Sampler {
     pixel_seed: u32,
     index: u32,
-    set: u32,
 }
 
 impl Sampler {
@@ -28,29 +47,15 @@ impl Sampler {
     pub fn new(pixel: UVec2, index: u32, seed: u32) -> Self {
         debug_assert!(index < MAX_SAMPLES_PER_PIXEL);
         let pixel_seed = hash(pixel.x ^ hash(pixel.y ^ hash(seed)));
-        Self { pixel_seed, index, set: 0 }
+        Self { pixel_seed, index }
     }
 
-    /// Skips to dimension set `set` (sets are how the integrator assigns dimensions to uses).
+    /// The four numbers of dimension set `set` (see [`sets`]): a randomised 4-D Sobol point,
+    /// independently shuffled and scrambled per pixel and set.
     #[inline]
-    pub fn start_set(&mut self, set: u32) {
-        self.set = set;
-    }
-
-    /// The next four dimensions (one padded 4-D set): the first two form a well-stratified 2-D
-    /// pattern and are the ones to use for 2-D decisions.
-    #[inline]
-    pub fn next_4d(&mut self) -> [f32; 4] {
-        let seed = hash(self.pixel_seed ^ self.set.wrapping_mul(0x9e37_79b9));
-        self.set += 1;
+    pub fn get(&self, set: u32) -> [f32; 4] {
+        let seed = hash(self.pixel_seed ^ set.wrapping_mul(0x9e37_79b9));
         sobol_burley::sample_4d(self.index, 0, seed)
-    }
-
-    /// The next set's first two dimensions.
-    #[inline]
-    pub fn next_2d(&mut self) -> Vec2 {
-        let [a, b, _, _] = self.next_4d();
-        Vec2::new(a, b)
     }
 }
 
@@ -71,28 +76,30 @@ mod tests {
 
     #[test]
     fn same_inputs_same_numbers_different_pixels_differ() {
-        let a = Sampler::new(UVec2::new(3, 4), 17, 5).next_4d();
-        assert_eq!(a, Sampler::new(UVec2::new(3, 4), 17, 5).next_4d());
-        assert_ne!(a, Sampler::new(UVec2::new(4, 3), 17, 5).next_4d());
-        assert_ne!(a, Sampler::new(UVec2::new(3, 4), 17, 6).next_4d());
-        let mut s = Sampler::new(UVec2::new(3, 4), 17, 5);
-        let first = s.next_4d();
-        assert_ne!(first, s.next_4d(), "sets are decorrelated");
+        let a = Sampler::new(UVec2::new(3, 4), 17, 5).get(0);
+        assert_eq!(a, Sampler::new(UVec2::new(3, 4), 17, 5).get(0));
+        assert_ne!(a, Sampler::new(UVec2::new(4, 3), 17, 5).get(0));
+        assert_ne!(a, Sampler::new(UVec2::new(3, 4), 17, 6).get(0));
+        assert_ne!(a, Sampler::new(UVec2::new(3, 4), 17, 5).get(1), "sets are decorrelated");
     }
 
     /// Each 4-D set's first two dimensions are stratified: 64 samples put exactly one point in
-    /// each cell of an 8 × 8 grid (a (0, 2)-sequence property that Owen scrambling keeps).
+    /// each cell of an 8 × 8 grid (a (0, 2)-sequence property that Owen scrambling keeps); and
+    /// so are 16 samples over the 2 × 2 × 2 × 2 cells of all four dimensions.
     #[test]
-    fn two_dimensional_stratification() {
-        for set in 0..4 {
+    fn stratification() {
+        for set in [0, 1, 7, sets::decisions(3)] {
             let mut grid = [0u32; 64];
+            let mut cells = [0u32; 16];
             for i in 0..64 {
-                let mut s = Sampler::new(UVec2::new(11, 2), i, 99);
-                s.start_set(set);
-                let u = s.next_2d();
-                grid[(u.y * 8.0) as usize * 8 + (u.x * 8.0) as usize] += 1;
+                let u = Sampler::new(UVec2::new(11, 2), i, 99).get(set);
+                grid[(u[1] * 8.0) as usize * 8 + (u[0] * 8.0) as usize] += 1;
+                if i < 16 {
+                    cells[u.iter().enumerate().map(|(d, x)| ((*x * 2.0) as usize) << d).sum::<usize>()] += 1;
+                }
             }
             assert!(grid.iter().all(|&c| c == 1), "set {set}: {grid:?}");
+            assert!(cells.iter().all(|&c| c == 1), "set {set}: {cells:?}");
         }
     }
 }

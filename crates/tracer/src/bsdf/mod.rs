@@ -115,6 +115,12 @@ impl Bsdf {
         self.diffuse.max_element() == 0.0 && self.p_specular == 0.0
     }
 
+    /// True when sampling must choose between two lobes (and so needs a number for it).
+    #[inline]
+    pub fn has_lobe_choice(&self) -> bool {
+        self.p_specular > 0.0 && self.p_specular < 1.0
+    }
+
     /// The shading normal (facing wo).
     #[inline]
     pub fn shading_normal(&self) -> Vec3 {

@@ -47,6 +47,11 @@ pub trait Camera: Send + Sync {
 
     /// The film resolution this camera was built for, in pixels.
     fn resolution(&self) -> UVec2;
+
+    /// Whether rays depend on `CameraSample::p_lens` (if not, no lens numbers are drawn).
+    fn uses_lens(&self) -> bool {
+        false
+    }
 }
 
 /// The projection a camera uses, with its parameters. Angles are in radians.

@@ -39,6 +39,10 @@ impl Camera for ThinLens {
     fn resolution(&self) -> UVec2 {
         self.frame.resolution
     }
+
+    fn uses_lens(&self) -> bool {
+        self.lens_radius > 0.0
+    }
 }
 
 #[cfg(test)]
