@@ -34,8 +34,10 @@ pub struct IntegratorConfig {
 }
 
 impl IntegratorConfig {
-    /// A general-purpose default: 8 scattering vertices, roulette after 3.
-    pub const DEFAULT: Self = Self { max_depth: 8, rr_depth: 3 };
+    /// A general-purpose default: 8 scattering vertices, roulette after 5. (Roulette after 3
+    /// cost the Cornell box 32 % more relMSE for 4 % less time: throughput-based roulette
+    /// only pays on long paths.)
+    pub const DEFAULT: Self = Self { max_depth: 8, rr_depth: 5 };
 
     /// The same configuration with another maximum depth.
     pub const fn with_max_depth(self, max_depth: u32) -> Self {
