@@ -15,6 +15,7 @@ pub fn run(a: InfoArgs) -> anyhow::Result<()> {
     let scene = Scene::load(&a.scene)?;
     println!("scene      {}", a.scene.display());
     println!("triangles  {}", scene.mesh.triangle_count());
+    println!("textures   {}", scene.textures.len());
     println!("cameras    {}", scene.describe_cameras());
     let emissive = scene.materials.iter().filter(|m| m.is_emissive()).count();
     println!("materials  {} ({} emissive)", scene.materials.len(), emissive);
@@ -22,6 +23,14 @@ pub fn run(a: InfoArgs) -> anyhow::Result<()> {
         match light {
             PunctualLight::Point { position, intensity } => {
                 println!("light      point at {position}, {intensity} W/sr")
+            }
+            PunctualLight::Spot { position, direction, intensity, inner_cone, outer_cone, .. } => println!(
+                "light      spot at {position} towards {direction}, {intensity} W/sr, cone {:.1}°/{:.1}°",
+                inner_cone.to_degrees(),
+                outer_cone.to_degrees()
+            ),
+            PunctualLight::Directional { direction, irradiance } => {
+                println!("light      directional towards {direction}, {irradiance} W/m²")
             }
         }
     }

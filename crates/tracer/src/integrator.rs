@@ -1,7 +1,10 @@
 //! Unidirectional path tracing (SPEC §3, "Integrator"; pbrt-v4 §13.4 `PathIntegrator`): at each
 //! scattering vertex, next-event estimation towards one light chosen by power, plus a BSDF
-//! sample that continues the path; both estimators of direct light are combined by multiple
-//! importance sampling with the power heuristic. Russian roulette from a chosen depth; a
+//! sample that continues the path; both estimators of direct light (emissive triangles, the
+//! environment image) are combined by multiple importance sampling with the power heuristic.
+//! Delta events (glass, punctual lights) take no MIS. Transmissive materials are a mixture:
+//! with probability transmission × (1 − metallic) the hit is a smooth dielectric interface,
+//! otherwise the opaque metallic-roughness BSDF. Russian roulette from a chosen depth; a
 //! maximum depth counted in scattering vertices (the Cornell reference's 4 = Mitsuba's
 //! `max_depth` 5: the light may be reached by the ray leaving the 4th vertex).
 //!
@@ -11,18 +14,20 @@
 //! stratified in 4-D. One-dimensional decisions (lobe choice, roulette) are drawn only where a
 //! material has two lobes or roulette is active.
 
-use crate::bsdf::Bsdf;
+use crate::bsdf::dielectric;
+use crate::bsdf::{Bsdf, BsdfParams};
 use crate::bvh::{Bvh, Hit};
 use crate::error::{Result, TracerError};
 use crate::interaction::SurfaceInteraction;
-use crate::light::LightSampler;
-use crate::material::Material;
+use crate::light::{LightSampler, ShadowTarget};
+use crate::material::{AlphaMode, Material};
 use crate::ray::Ray;
 use crate::sampler::{Sampler, sets};
 use crate::sampling::power_heuristic;
 use crate::scene::Scene;
-use crate::triangle::hit_point;
-use glam::{Vec2, Vec3};
+use crate::shading::{self, ShadingPoint, TangentFrame};
+use crate::texture::Texture;
+use glam::{Vec2, Vec3, Vec4};
 
 /// Path-tracing parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -76,18 +81,34 @@ pub struct PathSample {
     pub rays: u32,
 }
 
+/// Per-triangle vertex attributes, gathered only for the attributes the scene has.
+#[derive(Default)]
+struct Attributes {
+    normals: Option<Vec<[Vec3; 3]>>,
+    uvs: Option<Vec<[Vec2; 3]>>,
+    uvs1: Option<Vec<[Vec2; 3]>>,
+    tangents: Option<Vec<[Vec4; 3]>>,
+}
+
 /// A scene prepared for path tracing: BVH, lights, materials and shading attributes.
 pub struct PathTracer {
     bvh: Bvh,
     lights: LightSampler,
     materials: Vec<Material>,
     material_ids: Vec<u32>,
-    /// Per-triangle vertex normals, only when the scene has any (flat shading skips them).
-    vertex_normals: Option<Vec<[Vec3; 3]>>,
-    /// Per-triangle texture coordinates, only when the scene has any.
-    vertex_uvs: Option<Vec<[Vec2; 3]>>,
+    textures: Vec<Texture>,
+    attributes: Attributes,
+    /// Per triangle: does its material have an alpha test? `None` when no material does, in
+    /// which case traversal runs without any test callback.
+    alpha_tested: Option<Vec<bool>>,
     environment: Vec3,
     config: IntegratorConfig,
+}
+
+/// Interpolates a per-triangle attribute with barycentrics `b`.
+#[inline]
+fn lerp3<T: Copy + std::ops::Mul<f32, Output = T> + std::ops::Add<Output = T>>(v: [T; 3], b: [f32; 3]) -> T {
+    v[0] * b[0] + v[1] * b[1] + v[2] * b[2]
 }
 
 impl PathTracer {
@@ -98,19 +119,27 @@ impl PathTracer {
             return Err(TracerError::Settings("max depth must be at least 1".into()));
         }
         let mesh = &scene.mesh;
-        let gather = |attr: &[Vec3]| -> Vec<[Vec3; 3]> {
-            mesh.triangles.iter().map(|t| t.map(|i| attr[i as usize])).collect()
+        fn gather<T: Copy>(tris: &[[u32; 3]], attr: &[T]) -> Option<Vec<[T; 3]>> {
+            (!attr.is_empty()).then(|| tris.iter().map(|t| t.map(|i| attr[i as usize])).collect())
+        }
+        let attributes = Attributes {
+            normals: gather(&mesh.triangles, &mesh.normals),
+            uvs: gather(&mesh.triangles, &mesh.uvs),
+            uvs1: gather(&mesh.triangles, &mesh.uvs1),
+            tangents: gather(&mesh.triangles, &mesh.tangents),
         };
-        let vertex_normals = (!mesh.normals.is_empty()).then(|| gather(&mesh.normals));
-        let vertex_uvs = (!mesh.uvs.is_empty())
-            .then(|| mesh.triangles.iter().map(|t| t.map(|i| mesh.uvs[i as usize])).collect());
+        let alpha_tested =
+            scene.materials.iter().any(Material::has_alpha).then(|| {
+                mesh.material_ids.iter().map(|&m| scene.materials[m as usize].has_alpha()).collect()
+            });
         Ok(Self {
             bvh: Bvh::build(mesh),
             lights: LightSampler::new(scene),
             materials: scene.materials.clone(),
             material_ids: mesh.material_ids.clone(),
-            vertex_normals,
-            vertex_uvs,
+            textures: scene.textures.clone(),
+            attributes,
+            alpha_tested,
             environment: scene.environment.color,
             config,
         })
@@ -126,35 +155,41 @@ impl PathTracer {
         &self.bvh
     }
 
+    /// True when some material is alpha-tested (renders then use the alpha-aware traversal).
+    pub fn has_alpha(&self) -> bool {
+        self.alpha_tested.is_some()
+    }
+
+    /// Texture coordinates (sets 0 and 1) on `triangle` at barycentrics `b`.
+    #[inline]
+    fn uvs(&self, triangle: u32, b: [f32; 3]) -> [Vec2; 2] {
+        let t = triangle as usize;
+        let uv0 = self.attributes.uvs.as_ref().map_or(Vec2::ZERO, |u| lerp3(u[t], b));
+        let uv1 = self.attributes.uvs1.as_ref().map_or(uv0, |u| lerp3(u[t], b));
+        [uv0, uv1]
+    }
+
     /// The surface geometry at `hit`.
     #[inline]
     pub fn interaction(&self, hit: &Hit) -> SurfaceInteraction {
         let tri = self.bvh.triangle(hit.slot);
-        let (p, p_error) = hit_point(tri, hit.barycentrics);
+        let (p, p_error) = crate::triangle::hit_point(tri, hit.barycentrics);
         let [v0, v1, v2] = tri.map(Vec3::from_array);
         let n_geom = (v1 - v0).cross(v2 - v0).normalize_or(Vec3::Z);
         let t = hit.triangle as usize;
-        let [b0, b1, b2] = hit.barycentrics;
-        let n_shading = match &self.vertex_normals {
+        let n_shading = match &self.attributes.normals {
             Some(normals) => {
                 let [n0, n1, n2] = normals[t];
-                let n = b0 * n0 + b1 * n1 + b2 * n2;
                 // A zero vertex normal marks a part without normals: shade it flat.
                 if n0 == Vec3::ZERO || n1 == Vec3::ZERO || n2 == Vec3::ZERO {
                     n_geom
                 } else {
-                    n.normalize_or(n_geom)
+                    lerp3(normals[t], hit.barycentrics).normalize_or(n_geom)
                 }
             }
             None => n_geom,
         };
-        let uv = match &self.vertex_uvs {
-            Some(uvs) => {
-                let [a, b, c] = uvs[t];
-                b0 * a + b1 * b + b2 * c
-            }
-            None => Vec2::ZERO,
-        };
+        let uv = self.uvs(hit.triangle, hit.barycentrics)[0];
         SurfaceInteraction {
             p,
             p_error,
@@ -166,11 +201,98 @@ impl PathTracer {
         }
     }
 
-    /// Estimates the radiance arriving along `ray`; with `AOV`, records the first hit.
-    /// `u_light` is the first vertex's light sample (it shares the camera's set, see
-    /// `crate::sampler::sets`).
+    /// The material evaluated at `si` (textures, normal map).
     #[inline]
-    pub fn radiance<const AOV: bool>(
+    fn shade(&self, material: &Material, si: &SurfaceInteraction, b: [f32; 3]) -> ShadingPoint {
+        if material.textures.is_empty() {
+            return ShadingPoint {
+                base_color: material.base_color,
+                alpha: material.alpha,
+                metallic: material.metallic,
+                roughness: material.roughness,
+                emission: material.emission,
+                normal: si.n_shading,
+            };
+        }
+        let uv = self.uvs(si.triangle, b);
+        let frame =
+            if material.textures.normal.is_some() { self.tangent_frame(si.triangle, b) } else { NO_FRAME };
+        shading::evaluate(material, &self.textures, uv, si.n_shading, &frame)
+    }
+
+    /// Tangent data for normal mapping: vertex tangents if the mesh has them, and the
+    /// triangle's ∂p/∂u, ∂p/∂v from its texture coordinates.
+    fn tangent_frame(&self, triangle: u32, b: [f32; 3]) -> TangentFrame {
+        let t = triangle as usize;
+        let tangent = self.attributes.tangents.as_ref().and_then(|ts| {
+            let v = ts[t];
+            (v.iter().all(|x| x.truncate() != Vec3::ZERO)).then(|| lerp3(v, b))
+        });
+        let [p0, p1, p2] = {
+            let [a, b, c] = self.bvh.triangle_corners_by_id(triangle);
+            [a, b, c]
+        };
+        let [uv0, uv1, uv2] = self.attributes.uvs.as_ref().map_or([Vec2::ZERO, Vec2::X, Vec2::Y], |u| u[t]);
+        let (d1, d2) = (uv1 - uv0, uv2 - uv0);
+        let (e1, e2) = (p1 - p0, p2 - p0);
+        let det = d1.x * d2.y - d1.y * d2.x;
+        let (dpdu, dpdv) = if det.abs() > 1e-12 {
+            let inv = 1.0 / det;
+            ((d2.y * e1 - d1.y * e2) * inv, (d1.x * e2 - d2.x * e1) * inv)
+        } else {
+            (e1, e2)
+        };
+        TangentFrame { tangent, dpdu, dpdv }
+    }
+
+    /// Whether the alpha test lets a ray through (false) or stops it (true) at barycentrics
+    /// `b` of `triangle`. Masked surfaces compare alpha with the cut-off; blended ones are
+    /// hit with probability alpha, decided by a hash of the ray and the point (deterministic).
+    #[inline]
+    fn alpha_accepts(&self, tested: &[bool], triangle: u32, b: [f32; 3], ray: &Ray) -> bool {
+        if !tested[triangle as usize] {
+            return true;
+        }
+        let material = &self.materials[self.material_ids[triangle as usize] as usize];
+        let alpha = shading::alpha(material, &self.textures, self.uvs(triangle, b));
+        match material.alpha_mode {
+            AlphaMode::Opaque => true,
+            AlphaMode::Mask { cutoff } => alpha >= cutoff,
+            AlphaMode::Blend => {
+                let bits = [ray.origin.x, ray.origin.y, ray.origin.z, ray.direction.x, b[0], b[1]];
+                let h =
+                    bits.iter().fold(triangle ^ 0x68bc_21eb, |h, x| crate::sampler::hash(h ^ x.to_bits()));
+                ((h >> 8) as f32 / (1u32 << 24) as f32) < alpha
+            }
+        }
+    }
+
+    #[inline]
+    fn closest_hit<const ALPHA: bool>(&self, ray: &Ray) -> Option<Hit> {
+        match (ALPHA, &self.alpha_tested) {
+            (true, Some(tested)) => {
+                self.bvh.intersect_with(ray, f32::INFINITY, |t, b| self.alpha_accepts(tested, t, b, ray))
+            }
+            _ => self.bvh.intersect(ray, f32::INFINITY),
+        }
+    }
+
+    #[inline]
+    fn occluded<const ALPHA: bool>(&self, ray: &Ray, t_max: f32) -> bool {
+        match (ALPHA, &self.alpha_tested) {
+            (true, Some(tested)) => {
+                self.bvh.occluded_with(ray, t_max, |t, b| self.alpha_accepts(tested, t, b, ray))
+            }
+            _ => self.bvh.occluded(ray, t_max),
+        }
+    }
+
+    /// Estimates the radiance arriving along `ray`; with `AOV`, records the first hit; with
+    /// `ALPHA`, runs alpha tests during traversal (only scenes with alpha-tested materials
+    /// need it: see [`PathTracer::has_alpha`]). `u_light` is the first vertex's light sample
+    /// (it shares the camera's set, see `crate::sampler::sets`).
+    #[inline]
+    pub fn radiance<const AOV: bool, const ALPHA: bool>(
         &self,
         ray: Ray,
         sampler: &Sampler,
@@ -183,12 +305,23 @@ impl PathTracer {
         let mut beta = Vec3::ONE;
         let mut rays = 0u32;
         let mut prev_bsdf_pdf = 0.0f32;
+        // The previous bounce was a delta event: emission it finds takes no MIS weight.
+        let mut specular_bounce = false;
         let max_depth = self.config.max_depth;
         let mut depth = 0u32;
         loop {
             rays += 1;
-            let Some(hit) = self.bvh.intersect(&ray, f32::INFINITY) else {
-                l += beta * self.environment;
+            let Some(hit) = self.closest_hit::<ALPHA>(&ray) else {
+                let env = self.lights.environment();
+                let le = env.map_or(self.environment, |e| e.radiance(ray.direction));
+                if le != Vec3::ZERO {
+                    let w = if depth == 0 || specular_bounce || env.is_none() {
+                        1.0
+                    } else {
+                        power_heuristic(prev_bsdf_pdf, self.lights.pdf_environment(ray.direction))
+                    };
+                    l += beta * le * w;
+                }
                 if AOV && depth == 0 {
                     *first = FirstHit { albedo: Vec3::ZERO, normal: Vec3::ZERO, depth: f32::INFINITY };
                 }
@@ -196,62 +329,117 @@ impl PathTracer {
             };
             let si = self.interaction(&hit);
             let material = &self.materials[si.material as usize];
+            let sp = self.shade(material, &si, hit.barycentrics);
             let wo = -ray.direction;
 
-            if material.is_emissive() && (material.emission_two_sided || si.n_geom.dot(wo) > 0.0) {
-                let le = material.emission;
-                if depth == 0 {
-                    l += beta * le;
+            if sp.emission != Vec3::ZERO && (material.emission_two_sided || si.n_geom.dot(wo) > 0.0) {
+                if depth == 0 || specular_bounce {
+                    l += beta * sp.emission;
                 } else {
                     let light_pdf = self.lights.pdf_triangle(hit.triangle, hit.t, ray.direction);
-                    l += beta * le * power_heuristic(prev_bsdf_pdf, light_pdf);
+                    l += beta * sp.emission * power_heuristic(prev_bsdf_pdf, light_pdf);
                 }
             }
             if AOV && depth == 0 {
-                let n = if si.n_shading.dot(wo) < 0.0 { -si.n_shading } else { si.n_shading };
-                *first = FirstHit { albedo: material.base_color, normal: n, depth: hit.t };
+                let n = if sp.normal.dot(wo) < 0.0 { -sp.normal } else { sp.normal };
+                *first = FirstHit { albedo: sp.base_color, normal: n, depth: hit.t };
             }
             if depth == max_depth {
                 break;
             }
-            let bsdf = Bsdf::new(material, si.n_shading, si.n_geom, wo);
-            if bsdf.is_black() {
-                break;
-            }
 
-            // Next-event estimation.
-            if let Some(ls) = self.lights.sample(si.p, u_light) {
-                let (f, bsdf_pdf) = bsdf.eval(ls.wi);
-                if f != Vec3::ZERO {
-                    if let Some((shadow, t_max)) = si.spawn_ray_to(ls.p, ls.p_error, ls.n, ray.time) {
-                        rays += 1;
-                        if !self.bvh.occluded(&shadow, t_max) {
-                            let cos = ls.wi.dot(bsdf.shading_normal()).abs();
-                            let w = if ls.is_delta { 1.0 } else { power_heuristic(ls.pdf, bsdf_pdf) };
-                            l += beta * f * ls.li * (cos * w / ls.pdf);
+            // Numbers for this vertex: BSDF direction + next light sample, and (only when
+            // needed) the one-dimensional decisions.
+            let [u0, u1, l0, l1] = sampler.get(sets::vertex(depth));
+            let roulette = depth + 1 >= self.config.rr_depth;
+            let glass_weight = material.transmission * (1.0 - sp.metallic);
+            let mut decisions = None;
+            let vertex = depth;
+            let mut decide =
+                |k: usize| decisions.get_or_insert_with(|| sampler.get(sets::decisions(vertex)))[k];
+
+            let glass = glass_weight > 0.0 && (glass_weight >= 1.0 || decide(2) < glass_weight);
+            if glass {
+                // A smooth dielectric interface: reflect or refract by Fresnel.
+                let entering = si.n_geom.dot(wo) > 0.0;
+                let mut n = if sp.normal.dot(si.n_geom) < 0.0 { -sp.normal } else { sp.normal };
+                let mut eta = material.ior;
+                if !entering {
+                    n = -n;
+                    eta = 1.0 / eta;
+                }
+                let cos_o = n.dot(wo).max(1e-6);
+                let fresnel = dielectric::fresnel(cos_o, eta);
+                let (wi, weight) = if decide(3) < fresnel {
+                    (2.0 * cos_o * n - wo, Vec3::ONE)
+                } else {
+                    match dielectric::refract(wo, n, eta) {
+                        // Radiance is compressed by η² crossing into the denser side.
+                        Some(wi) => (wi, sp.base_color / (eta * eta)),
+                        None => (2.0 * cos_o * n - wo, Vec3::ONE),
+                    }
+                };
+                // The new direction must leave on the side its event says (reflection on wo's
+                // side of the geometry, refraction on the other), or the shading normal lied.
+                let reflected = wi.dot(n) > 0.0;
+                if (wi.dot(si.n_geom) > 0.0) != (entering == reflected) {
+                    break;
+                }
+                beta *= weight;
+                specular_bounce = true;
+                ray = si.spawn_ray(wi, ray.time);
+            } else {
+                let params = BsdfParams {
+                    base_color: sp.base_color,
+                    metallic: sp.metallic,
+                    roughness: sp.roughness,
+                    ..BsdfParams::of(material)
+                };
+                let bsdf = Bsdf::with_params(&params, sp.normal, si.n_geom, wo);
+                if bsdf.is_black() {
+                    break;
+                }
+
+                // Next-event estimation.
+                if let Some(ls) = self.lights.sample(si.p, u_light) {
+                    let (f, bsdf_pdf) = bsdf.eval(ls.wi);
+                    let mut li = ls.li;
+                    if let Some((tri, b)) = ls.emitter {
+                        let m = &self.materials[self.material_ids[tri as usize] as usize];
+                        if let Some(r) = &m.textures.emissive {
+                            li *= r.eval(&self.textures, self.uvs(tri, b)).truncate();
+                        }
+                    }
+                    if f != Vec3::ZERO && li != Vec3::ZERO {
+                        let shadow = match ls.target {
+                            ShadowTarget::Point { p, p_error, n } => si.spawn_ray_to(p, p_error, n, ray.time),
+                            ShadowTarget::Infinite => Some((si.spawn_ray(ls.wi, ray.time), f32::INFINITY)),
+                        };
+                        if let Some((shadow, t_max)) = shadow {
+                            rays += 1;
+                            if !self.occluded::<ALPHA>(&shadow, t_max) {
+                                let cos = ls.wi.dot(bsdf.shading_normal()).abs();
+                                let w = if ls.is_delta { 1.0 } else { power_heuristic(ls.pdf, bsdf_pdf) };
+                                l += beta * f * li * (cos * w / ls.pdf);
+                            }
                         }
                     }
                 }
-            }
 
-            // Continue the path by sampling the BSDF.
-            let [u0, u1, l0, l1] = sampler.get(sets::vertex(depth));
+                // Continue the path by sampling the BSDF.
+                let u_lobe = if bsdf.has_lobe_choice() { decide(0) } else { 0.5 };
+                let Some(bs) = bsdf.sample(Vec2::new(u0, u1), u_lobe) else { break };
+                beta *= bs.f * (bs.cos / bs.pdf);
+                prev_bsdf_pdf = bs.pdf;
+                specular_bounce = false;
+                ray = si.spawn_ray(bs.wi, ray.time);
+            }
             u_light = Vec2::new(l0, l1);
-            let roulette = depth + 1 >= self.config.rr_depth;
-            let [u_lobe, u_rr, _, _] = if bsdf.has_lobe_choice() || roulette {
-                sampler.get(sets::decisions(depth))
-            } else {
-                [0.5; 4]
-            };
-            let Some(bs) = bsdf.sample(Vec2::new(u0, u1), u_lobe) else { break };
-            beta *= bs.f * (bs.cos / bs.pdf);
-            prev_bsdf_pdf = bs.pdf;
-            ray = si.spawn_ray(bs.wi, ray.time);
             depth += 1;
 
             if roulette {
                 let q = (1.0 - beta.max_element()).max(0.0);
-                if u_rr < q {
+                if decide(1) < q {
                     break;
                 }
                 beta /= 1.0 - q;
@@ -260,3 +448,6 @@ impl PathTracer {
         PathSample { radiance: l, rays }
     }
 }
+
+/// Tangent data for materials without a normal map (never read).
+const NO_FRAME: TangentFrame = TangentFrame { tangent: None, dpdu: Vec3::X, dpdv: Vec3::Y };

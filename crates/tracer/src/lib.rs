@@ -22,6 +22,8 @@ pub mod render;
 pub mod sampler;
 pub mod sampling;
 pub mod scene;
+pub mod shading;
+pub mod texture;
 mod triangle;
 
 pub use error::{Result, TracerError};

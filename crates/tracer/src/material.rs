@@ -1,9 +1,49 @@
 //! Materials as scenes describe them: the glTF 2.0 metallic-roughness model (glTF spec,
-//! Appendix B) with `KHR_materials_specular` and `KHR_materials_emissive_strength`. OBJ/MTL
-//! materials map onto the same parameters (see `scene::obj`). The BSDF built from these
+//! Appendix B) with its textures, alpha modes, `KHR_materials_specular`,
+//! `KHR_materials_emissive_strength`, `KHR_materials_transmission` and `KHR_materials_ior`.
+//! OBJ/MTL materials map onto the same parameters (see `scene::obj`). The BSDF built from these
 //! parameters at a hit lives in `crate::bsdf`.
 
+use crate::texture::TextureRef;
 use glam::Vec3;
+
+/// How a material's alpha (base colour alpha × texture alpha) is used (glTF `alphaMode`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum AlphaMode {
+    /// Alpha is ignored.
+    #[default]
+    Opaque,
+    /// Surfaces with alpha below the cut-off are absent (cut-outs, e.g. leaves).
+    Mask {
+        /// `alphaCutoff` (glTF default 0.5).
+        cutoff: f32,
+    },
+    /// Partly transparent: a ray passes through with probability 1 − alpha.
+    Blend,
+}
+
+/// Texture slots of a material; each multiplies its factor (glTF §3.9).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct MaterialTextures {
+    /// sRGB base colour (RGB) and alpha (A).
+    pub base_color: Option<TextureRef>,
+    /// Linear: roughness in G, metallic in B.
+    pub metallic_roughness: Option<TextureRef>,
+    /// sRGB emissive colour.
+    pub emissive: Option<TextureRef>,
+    /// Tangent-space normal map (linear) and its `scale`.
+    pub normal: Option<(TextureRef, f32)>,
+}
+
+impl MaterialTextures {
+    /// True when no slot holds a texture.
+    pub fn is_empty(&self) -> bool {
+        self.base_color.is_none()
+            && self.metallic_roughness.is_none()
+            && self.emissive.is_none()
+            && self.normal.is_none()
+    }
+}
 
 /// A surface material: linear-RGB factors of the glTF metallic-roughness model.
 #[derive(Clone, Debug, PartialEq)]
@@ -27,6 +67,17 @@ pub struct Material {
     /// Whether emission leaves both faces (glTF `doubleSided`); otherwise only the front face,
     /// the one whose counter-clockwise winding faces the viewer.
     pub emission_two_sided: bool,
+    /// Base colour alpha factor.
+    pub alpha: f32,
+    /// How alpha is used.
+    pub alpha_mode: AlphaMode,
+    /// `KHR_materials_transmission` factor: the share of the dielectric's diffuse part that
+    /// refracts through the surface instead (glass: 1).
+    pub transmission: f32,
+    /// `KHR_materials_ior` index of refraction (glTF default 1.5).
+    pub ior: f32,
+    /// Texture slots.
+    pub textures: MaterialTextures,
 }
 
 impl Default for Material {
@@ -42,6 +93,11 @@ impl Default for Material {
             specular_color: Vec3::ONE,
             emission: Vec3::ZERO,
             emission_two_sided: false,
+            alpha: 1.0,
+            alpha_mode: AlphaMode::Opaque,
+            transmission: 0.0,
+            ior: 1.5,
+            textures: MaterialTextures::default(),
         }
     }
 }
@@ -57,9 +113,17 @@ impl Material {
         self.emission.max_element() > 0.0
     }
 
-    /// True when the material has a specular (GGX) lobe at all.
+    /// True when the material has a specular (GGX) lobe at all. (A metallic-roughness texture
+    /// can only scale the metallic factor, so the factor decides.)
     pub fn has_specular(&self) -> bool {
-        self.metallic > 0.0 || (self.specular > 0.0 && self.specular_color.max_element() > 0.0)
+        self.metallic > 0.0
+            || (self.specular > 0.0 && self.specular_color.max_element() > 0.0)
+            || self.transmission > 0.0
+    }
+
+    /// True when some of the surface may be missing (alpha mask or blend).
+    pub fn has_alpha(&self) -> bool {
+        !matches!(self.alpha_mode, AlphaMode::Opaque)
     }
 
     /// Checks the factors are finite and in range; returns what is wrong.
@@ -79,9 +143,21 @@ impl Material {
         {
             return Err(format!("material '{}' has a negative colour", self.name));
         }
-        for (what, v) in
-            [("metallic", self.metallic), ("roughness", self.roughness), ("specular", self.specular)]
-        {
+        if !(self.ior.is_finite() && self.ior >= 1.0) {
+            return Err(format!("material '{}': index of refraction {} must be ≥ 1", self.name, self.ior));
+        }
+        if let AlphaMode::Mask { cutoff } = self.alpha_mode {
+            if !cutoff.is_finite() || cutoff < 0.0 {
+                return Err(format!("material '{}': alpha cut-off {cutoff} must be ≥ 0", self.name));
+            }
+        }
+        for (what, v) in [
+            ("metallic", self.metallic),
+            ("roughness", self.roughness),
+            ("specular", self.specular),
+            ("alpha", self.alpha),
+            ("transmission", self.transmission),
+        ] {
             if !(0.0..=1.0).contains(&v) {
                 return Err(format!("material '{}': {what} {v} is outside [0, 1]", self.name));
             }

@@ -119,10 +119,14 @@ pub fn render(
     let start = Instant::now();
     let (pixels, rays) = {
         let generator = lenses.generator(camera);
-        if settings.aovs {
-            trace_film::<true>(tracer, &generator, camera.uses_lens(), res, settings, progress)
-        } else {
-            trace_film::<false>(tracer, &generator, camera.uses_lens(), res, settings, progress)
+        let lens = camera.uses_lens();
+        // Specialised loops: no AOV bookkeeping without AOVs, no alpha tests without
+        // alpha-tested materials.
+        match (settings.aovs, tracer.has_alpha()) {
+            (true, true) => trace_film::<true, true>(tracer, &generator, lens, res, settings, progress),
+            (true, false) => trace_film::<true, false>(tracer, &generator, lens, res, settings, progress),
+            (false, true) => trace_film::<false, true>(tracer, &generator, lens, res, settings, progress),
+            (false, false) => trace_film::<false, false>(tracer, &generator, lens, res, settings, progress),
         }
     };
     let seconds = start.elapsed().as_secs_f64();
@@ -140,7 +144,7 @@ pub fn render(
 }
 
 /// Traces every pixel; returns the accumulators in row-major order and the ray count.
-fn trace_film<const AOV: bool>(
+fn trace_film<const AOV: bool, const ALPHA: bool>(
     tracer: &PathTracer,
     generator: &dyn RayGenerator,
     uses_lens: bool,
@@ -182,7 +186,8 @@ fn trace_film<const AOV: bool>(
                             continue;
                         };
                         let mut first = FirstHit::default();
-                        let path = tracer.radiance::<AOV>(ray, &sampler, Vec2::new(l0, l1), &mut first);
+                        let path =
+                            tracer.radiance::<AOV, ALPHA>(ray, &sampler, Vec2::new(l0, l1), &mut first);
                         rays += path.rays as u64;
                         acc.add(path.radiance);
                         if AOV {

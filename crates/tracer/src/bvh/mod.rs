@@ -17,7 +17,7 @@ mod node;
 use crate::ray::Ray;
 use crate::scene::Mesh;
 use crate::triangle::{TriangleHit, WatertightRay, safe_reciprocal};
-use glam::UVec2;
+use glam::{UVec2, Vec3};
 use node::NodeRay;
 use obvhs::aabb::Aabb;
 use obvhs::cwbvh::CwBvh;
@@ -43,6 +43,8 @@ pub struct Bvh {
     triangles: Vec<[[f32; 3]; 3]>,
     /// Slot → triangle index in the mesh.
     triangle_ids: Vec<u32>,
+    /// Triangle index in the mesh → slot.
+    slot_of: Vec<u32>,
 }
 
 /// Everything a query needs about its ray, computed once.
@@ -96,7 +98,11 @@ impl Bvh {
         let triangle_ids = cwbvh.primitive_indices.clone();
         let triangles =
             triangle_ids.iter().map(|&t| mesh.corners(t as usize).map(|p| p.to_array())).collect();
-        Self { cwbvh, triangles, triangle_ids }
+        let mut slot_of = vec![0u32; triangle_ids.len()];
+        for (slot, &t) in triangle_ids.iter().enumerate() {
+            slot_of[t as usize] = slot as u32;
+        }
+        Self { cwbvh, triangles, triangle_ids, slot_of }
     }
 
     /// Number of triangles.
@@ -109,6 +115,12 @@ impl Bvh {
         self.triangles.is_empty()
     }
 
+    /// The world-space corners of mesh triangle `triangle` (by its index in the mesh).
+    #[inline]
+    pub fn triangle_corners_by_id(&self, triangle: u32) -> [Vec3; 3] {
+        self.triangles[self.slot_of[triangle as usize] as usize].map(Vec3::from_array)
+    }
+
     /// The world-space corners of the triangle in `slot`.
     #[inline]
     pub fn triangle(&self, slot: u32) -> &[[f32; 3]; 3] {
@@ -118,6 +130,18 @@ impl Bvh {
     /// The closest hit along `ray` in (0, t_max), if any.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        self.intersect_with(ray, t_max, |_, _| true)
+    }
+
+    /// The closest hit along `ray` in (0, t_max) that `accept(triangle, barycentrics)` lets
+    /// through (alpha-tested surfaces: a rejected hit does not shorten the ray).
+    #[inline]
+    pub fn intersect_with(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        accept: impl Fn(u32, [f32; 3]) -> bool,
+    ) -> Option<Hit> {
         if self.triangles.is_empty() {
             return None;
         }
@@ -130,8 +154,10 @@ impl Bvh {
         traverse!(self.cwbvh, node, state, node::intersect(node, &q.node, best_t, state.oct_inv4), {
             let slot = state.primitive_id;
             if let Some(h) = q.triangle.intersect(&self.triangles[slot as usize], best_t) {
-                best_t = h.t;
-                best = Some((slot, h));
+                if accept(self.triangle_ids[slot as usize], h.b) {
+                    best_t = h.t;
+                    best = Some((slot, h));
+                }
             }
         });
         best.map(|(slot, h)| Hit {
@@ -145,6 +171,13 @@ impl Bvh {
     /// True when something blocks `ray` in (0, t_max). Stops at the first blocker found.
     #[inline]
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        self.occluded_with(ray, t_max, |_, _| true)
+    }
+
+    /// True when a hit that `accept(triangle, barycentrics)` lets through blocks `ray` in
+    /// (0, t_max).
+    #[inline]
+    pub fn occluded_with(&self, ray: &Ray, t_max: f32, accept: impl Fn(u32, [f32; 3]) -> bool) -> bool {
         if self.triangles.is_empty() {
             return false;
         }
@@ -155,9 +188,12 @@ impl Bvh {
         let mut blocked = false;
         'search: {
             traverse!(self.cwbvh, node, state, node::intersect(node, &q.node, t_max, state.oct_inv4), {
-                if q.triangle.intersect(&self.triangles[state.primitive_id as usize], t_max).is_some() {
-                    blocked = true;
-                    break 'search;
+                let slot = state.primitive_id as usize;
+                if let Some(h) = q.triangle.intersect(&self.triangles[slot], t_max) {
+                    if accept(self.triangle_ids[slot], h.b) {
+                        blocked = true;
+                        break 'search;
+                    }
                 }
             });
         }

@@ -18,6 +18,8 @@ pub struct EmissiveTriangle {
     pub radiance: Vec3,
     /// Whether the back face emits too.
     pub two_sided: bool,
+    /// The mesh triangle (for emissive textures, looked up at the sampled point).
+    pub triangle: u32,
 }
 
 /// A point sampled on an emissive triangle.
@@ -29,14 +31,23 @@ pub struct AreaSample {
     pub p_error: Vec3,
     /// Front normal there.
     pub n: Vec3,
+    /// Barycentric weights of the corners there.
+    pub b: [f32; 3],
 }
 
 impl EmissiveTriangle {
-    /// The light for corners `p` (None for a degenerate triangle).
-    pub fn new(p: [Vec3; 3], radiance: Vec3, two_sided: bool) -> Option<Self> {
+    /// The light for mesh triangle `triangle` with corners `p` (None if degenerate).
+    pub fn new(triangle: u32, p: [Vec3; 3], radiance: Vec3, two_sided: bool) -> Option<Self> {
         let c = (p[1] - p[0]).cross(p[2] - p[0]);
         let area = 0.5 * c.length();
-        (area > 0.0 && area.is_finite()).then(|| Self { p, n: c.normalize(), area, radiance, two_sided })
+        (area > 0.0 && area.is_finite()).then(|| Self {
+            p,
+            n: c.normalize(),
+            area,
+            radiance,
+            two_sided,
+            triangle,
+        })
     }
 
     /// Emitted power, by luminance (the weight for choosing among lights).
@@ -52,7 +63,7 @@ impl EmissiveTriangle {
         let (q0, q1, q2) = (self.p[0] * b[0], self.p[1] * b[1], self.p[2] * b[2]);
         let p = q0 + q1 + q2;
         let p_error = gamma(6) * (q0.abs() + q1.abs() + q2.abs());
-        AreaSample { p, p_error, n: self.n }
+        AreaSample { p, p_error, n: self.n, b }
     }
 
     /// Radiance leaving the light towards `w` (a direction *from* the light).

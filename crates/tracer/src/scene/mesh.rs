@@ -2,7 +2,7 @@
 //! normals and texture coordinates. Parts with and without normals can be mixed: a vertex normal
 //! of zero means "none", and triangles with any such vertex are shaded flat.
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 
 /// World-space triangles with per-vertex attributes and a material per triangle.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -13,10 +13,23 @@ pub struct Mesh {
     pub normals: Vec<Vec3>,
     /// Per-vertex texture coordinates (set 0), or empty when no part has any.
     pub uvs: Vec<Vec2>,
+    /// Per-vertex texture coordinates (set 1), or empty when no part has any.
+    pub uvs1: Vec<Vec2>,
+    /// Per-vertex tangents (xyz, w = ±1 bitangent sign, glTF `TANGENT`), or empty; zero = none.
+    pub tangents: Vec<Vec4>,
     /// Vertex indices, three per triangle, counter-clockwise seen from the front.
     pub triangles: Vec<[u32; 3]>,
     /// Material index per triangle.
     pub material_ids: Vec<u32>,
+}
+
+/// Less common vertex attributes of a part (see [`Mesh::push_with`]).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct MeshExtras<'a> {
+    /// Texture coordinates, set 1.
+    pub uvs1: Option<&'a [Vec2]>,
+    /// Tangents (xyz, w = bitangent sign), already in world space.
+    pub tangents: Option<&'a [Vec4]>,
 }
 
 /// One piece of geometry to add to a [`Mesh`], already in world space.
@@ -43,7 +56,22 @@ impl Mesh {
 
     /// Appends a part; returns a message when its indices or attribute counts are inconsistent.
     pub fn push(&mut self, part: MeshPart<'_>) -> Result<(), String> {
+        self.push_with(part, MeshExtras::default())
+    }
+
+    /// Appends a part with its second texture-coordinate set and tangents.
+    pub fn push_with(&mut self, part: MeshPart<'_>, extras: MeshExtras<'_>) -> Result<(), String> {
         let n = part.positions.len();
+        if let Some(uvs1) = extras.uvs1 {
+            if uvs1.len() != n {
+                return Err(format!("{} second texture coordinates for {} vertices", uvs1.len(), n));
+            }
+        }
+        if let Some(tangents) = extras.tangents {
+            if tangents.len() != n {
+                return Err(format!("{} tangents for {} vertices", tangents.len(), n));
+            }
+        }
         if let Some(normals) = part.normals {
             if normals.len() != n {
                 return Err(format!("{} normals for {} vertices", normals.len(), n));
@@ -74,6 +102,8 @@ impl Mesh {
         self.positions.extend_from_slice(part.positions);
         Self::extend_attr(&mut self.normals, had, part.normals, n);
         Self::extend_attr(&mut self.uvs, had, part.uvs, n);
+        Self::extend_attr(&mut self.uvs1, had, extras.uvs1, n);
+        Self::extend_attr(&mut self.tangents, had, extras.tangents, n);
 
         let tris = count / 3;
         self.triangles.reserve(tris);
@@ -119,6 +149,19 @@ impl Mesh {
         }
         if let Some((i, _)) = self.uvs.iter().enumerate().find(|(_, v)| !v.is_finite()) {
             return Err(format!("vertex {i} has non-finite texture coordinates"));
+        }
+        for (what, len) in
+            [("second texture coordinates", self.uvs1.len()), ("tangents", self.tangents.len())]
+        {
+            if len != 0 && len != n {
+                return Err(format!("{len} {what} for {n} vertices"));
+            }
+        }
+        if let Some((i, _)) = self.uvs1.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(format!("vertex {i} has non-finite second texture coordinates"));
+        }
+        if let Some((i, _)) = self.tangents.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(format!("vertex {i} has a non-finite tangent"));
         }
         if self.material_ids.len() != self.triangles.len() {
             return Err(format!(

@@ -7,7 +7,7 @@ mod gltf;
 mod mesh;
 mod obj;
 
-pub use mesh::{Mesh, MeshPart};
+pub use mesh::{Mesh, MeshExtras, MeshPart};
 
 use crate::camera::CameraDesc;
 use crate::error::{Result, TracerError};
@@ -15,7 +15,8 @@ use crate::material::Material;
 use glam::Vec3;
 use std::path::{Path, PathBuf};
 
-/// A light with no area (`KHR_lights_punctual`). Intensities are radiant (W/sr per channel).
+/// A light with no area (`KHR_lights_punctual`). Intensities are radiant (W/sr per channel);
+/// the glTF loader converts from candela (÷ 683, NOTES.md) and lux (÷ 683).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum PunctualLight {
     /// Emits equally in all directions from a point.
@@ -25,6 +26,52 @@ pub enum PunctualLight {
         /// Radiant intensity, W/sr per RGB channel.
         intensity: Vec3,
     },
+    /// A point light restricted to a cone.
+    Spot {
+        /// World-space position.
+        position: Vec3,
+        /// Unit direction the cone points along.
+        direction: Vec3,
+        /// Radiant intensity on the axis, W/sr per RGB channel.
+        intensity: Vec3,
+        /// Angle from the axis where the falloff starts (radians).
+        inner_cone: f32,
+        /// Angle from the axis where the light ends (radians).
+        outer_cone: f32,
+        /// Shape of the falloff between the two.
+        falloff: SpotFalloff,
+    },
+    /// Parallel light from infinitely far away (the sun).
+    Directional {
+        /// Unit direction the light travels in.
+        direction: Vec3,
+        /// Irradiance on a surface facing the light, W/m² per RGB channel.
+        irradiance: Vec3,
+    },
+}
+
+/// How a spot light fades between its inner and outer cone.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SpotFalloff {
+    /// Blender Cycles' falloff: smoothstep((cos θ − cos θo) / ((1 − cos θo) · b)) with
+    /// b = 1 − inner/outer (NOTES.md); what a Blender-exported scene was lit with.
+    #[default]
+    Blender,
+    /// The glTF specification's recommended falloff: the square of the linear ramp in cos θ
+    /// between the outer and inner cone.
+    Gltf,
+}
+
+/// An equirectangular (latitude–longitude) environment image, importance-sampled as a light.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnvironmentMap {
+    /// Linear RGB radiance; x spans longitude −180° … 180° with −Z at the centre, y spans
+    /// latitude 90° (top) … −90° (the equirectangular camera's convention).
+    pub texture: crate::texture::Texture,
+    /// Rotation about +Y, radians.
+    pub rotation: f32,
+    /// Radiance multiplier.
+    pub strength: f32,
 }
 
 /// Light arriving from infinitely far away where rays leave the scene.
@@ -86,6 +133,10 @@ pub struct Scene {
     /// What the loader ignored or replaced (unsupported features, missing materials …), each
     /// naming the file: library code never prints, the CLI shows these.
     pub warnings: Vec<String>,
+    /// Decoded texture images; materials' `TextureRef`s index this list.
+    pub textures: Vec<crate::texture::Texture>,
+    /// An environment image replacing `environment.color` where rays leave the scene.
+    pub environment_map: Option<EnvironmentMap>,
 }
 
 impl Scene {
@@ -153,11 +204,51 @@ impl Scene {
             m.validate().map_err(|msg| TracerError::scene(&self.path, msg))?;
         }
         for (i, light) in self.lights.iter().enumerate() {
-            let PunctualLight::Point { position, intensity } = light;
-            if !position.is_finite() || !intensity.is_finite() || intensity.min_element() < 0.0 {
+            let ok = match *light {
+                PunctualLight::Point { position, intensity } => {
+                    position.is_finite() && intensity.is_finite() && intensity.min_element() >= 0.0
+                }
+                PunctualLight::Spot { position, direction, intensity, inner_cone, outer_cone, .. } => {
+                    position.is_finite()
+                        && direction.is_normalized()
+                        && intensity.is_finite()
+                        && intensity.min_element() >= 0.0
+                        && inner_cone >= 0.0
+                        && inner_cone <= outer_cone
+                        && outer_cone > 0.0
+                        && outer_cone <= std::f32::consts::FRAC_PI_2
+                }
+                PunctualLight::Directional { direction, irradiance } => {
+                    direction.is_normalized() && irradiance.is_finite() && irradiance.min_element() >= 0.0
+                }
+            };
+            if !ok {
                 return Err(TracerError::scene(
                     &self.path,
-                    format!("light {i} has a non-finite or negative value"),
+                    format!("light {i} has a non-finite, negative or out-of-range value: {light:?}"),
+                ));
+            }
+        }
+        for t in &self.textures {
+            if t.texels.len() != t.width as usize * t.height as usize
+                || t.texels.iter().any(|v| !v.is_finite())
+            {
+                return Err(TracerError::scene(&self.path, format!("texture '{}' is malformed", t.name)));
+            }
+        }
+        let texture_count = self.textures.len();
+        for m in &self.materials {
+            let t = &m.textures;
+            let refs = [t.base_color, t.metallic_roughness, t.emissive, t.normal.map(|n| n.0)];
+            if let Some(r) =
+                refs.iter().flatten().find(|r| r.texture as usize >= texture_count || r.uv_set > 1)
+            {
+                return Err(TracerError::scene(
+                    &self.path,
+                    format!(
+                        "material '{}' refers to texture {} (set {}) of {texture_count}",
+                        m.name, r.texture, r.uv_set
+                    ),
                 ));
             }
         }

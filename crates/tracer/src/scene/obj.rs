@@ -240,6 +240,7 @@ fn convert(m: &tobj::Material) -> (Material, Vec<String>) {
         specular_color,
         emission: m.emissive.map_or(Vec3::ZERO, Vec3::from),
         emission_two_sided: false,
+        ..Material::default()
     };
     let known = [
         ("map_Kd", &m.diffuse_texture),

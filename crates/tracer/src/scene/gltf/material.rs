@@ -17,6 +17,7 @@ pub(super) fn gltf_default() -> Material {
         specular_color: Vec3::ONE,
         emission: Vec3::ZERO,
         emission_two_sided: false,
+        ..Material::default()
     }
 }
 
@@ -69,5 +70,6 @@ pub(super) fn convert(m: &gltf::Material, path: &Path, warnings: &mut Vec<String
         // bright), so emission follows `doubleSided`.
         emission_two_sided: m.double_sided(),
         name,
+        ..Material::default()
     }
 }

@@ -1,0 +1,163 @@
+//! A material evaluated at a hit (glTF 2.0 §3.9): factors times textures, alpha, and the
+//! shading normal perturbed by a tangent-space normal map. Slots without a texture cost
+//! nothing: each lookup happens only when its `TextureRef` is present.
+
+use crate::material::Material;
+use crate::texture::Texture;
+use glam::{Vec2, Vec3, Vec4};
+
+/// Tangent frame data at a hit, for normal mapping.
+#[derive(Clone, Copy, Debug)]
+pub struct TangentFrame {
+    /// Interpolated vertex tangent (xyz, w = bitangent sign), if the mesh has tangents.
+    pub tangent: Option<Vec4>,
+    /// ∂p/∂u of the triangle (world space), for tangents derived from texture coordinates.
+    pub dpdu: Vec3,
+    /// ∂p/∂v of the triangle.
+    pub dpdv: Vec3,
+}
+
+/// The material's parameters at one surface point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadingPoint {
+    /// Linear base colour.
+    pub base_color: Vec3,
+    /// Coverage (base colour alpha × texture alpha).
+    pub alpha: f32,
+    /// Metalness.
+    pub metallic: f32,
+    /// Perceptual roughness.
+    pub roughness: f32,
+    /// Emitted radiance.
+    pub emission: Vec3,
+    /// Shading normal (unit, same side as the interpolated normal).
+    pub normal: Vec3,
+}
+
+/// Evaluates `material` at texture coordinates `uv` (sets 0, 1) with interpolated shading
+/// normal `n` (unit) and the tangent frame `frame` (used only with a normal map).
+#[inline]
+pub fn evaluate(
+    material: &Material,
+    textures: &[Texture],
+    uv: [Vec2; 2],
+    n: Vec3,
+    frame: &TangentFrame,
+) -> ShadingPoint {
+    let t = &material.textures;
+    let mut base = material.base_color.extend(material.alpha);
+    if let Some(r) = &t.base_color {
+        base *= r.eval(textures, uv);
+    }
+    let (mut metallic, mut roughness) = (material.metallic, material.roughness);
+    if let Some(r) = &t.metallic_roughness {
+        let mr = r.eval(textures, uv);
+        roughness *= mr.y;
+        metallic *= mr.z;
+    }
+    let mut emission = material.emission;
+    if let Some(r) = &t.emissive {
+        emission *= r.eval(textures, uv).truncate();
+    }
+    let normal = match &t.normal {
+        Some((r, scale)) => perturb(n, r.eval(textures, uv).truncate(), *scale, frame),
+        None => n,
+    };
+    ShadingPoint {
+        base_color: base.truncate(),
+        alpha: base.w.clamp(0.0, 1.0),
+        metallic: metallic.clamp(0.0, 1.0),
+        roughness: roughness.clamp(0.0, 1.0),
+        emission,
+        normal,
+    }
+}
+
+/// Coverage alone (for alpha tests during traversal): base colour alpha × texture alpha.
+#[inline]
+pub fn alpha(material: &Material, textures: &[Texture], uv: [Vec2; 2]) -> f32 {
+    let mut a = material.alpha;
+    if let Some(r) = &material.textures.base_color {
+        a *= r.eval(textures, uv).w;
+    }
+    a
+}
+
+/// The normal from a tangent-space normal-map texel (glTF: RGB in [0, 1] → [−1, 1], +Y along
+/// the bitangent, xy scaled by `scale`).
+#[inline]
+fn perturb(n: Vec3, texel: Vec3, scale: f32, frame: &TangentFrame) -> Vec3 {
+    let m = texel * 2.0 - Vec3::ONE;
+    let m = Vec3::new(m.x * scale, m.y * scale, m.z);
+    let (t, sign) = match frame.tangent {
+        Some(t) if t.truncate().length_squared() > 0.0 => (t.truncate(), if t.w < 0.0 { -1.0 } else { 1.0 }),
+        _ => {
+            // Derived from the texture coordinates: glTF's v runs down the image while the
+            // map's +Y (green) points up, so the bitangent is −∂p/∂v.
+            let sign = if n.cross(frame.dpdu).dot(-frame.dpdv) < 0.0 { -1.0 } else { 1.0 };
+            (frame.dpdu, sign)
+        }
+    };
+    // Gram–Schmidt: the tangent in the shading normal's plane.
+    let t = (t - n * n.dot(t)).normalize_or_zero();
+    if t == Vec3::ZERO {
+        return n;
+    }
+    let b = n.cross(t) * sign;
+    (t * m.x + b * m.y + n * m.z).normalize_or(n)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::MaterialTextures;
+    use crate::texture::TextureRef;
+
+    fn texture(rgba: Vec4) -> Texture {
+        Texture::new("t", 1, 1, vec![rgba])
+    }
+
+    #[test]
+    fn factors_times_textures() {
+        let textures = vec![texture(Vec4::new(0.5, 0.25, 1.0, 0.5)), texture(Vec4::new(0.0, 0.5, 0.25, 1.0))];
+        let material = Material {
+            base_color: Vec3::new(1.0, 1.0, 0.5),
+            alpha: 0.8,
+            metallic: 1.0,
+            roughness: 0.8,
+            textures: MaterialTextures {
+                base_color: Some(TextureRef::new(0)),
+                metallic_roughness: Some(TextureRef::new(1)),
+                ..Default::default()
+            },
+            ..Material::default()
+        };
+        let frame = TangentFrame { tangent: None, dpdu: Vec3::X, dpdv: Vec3::Y };
+        let s = evaluate(&material, &textures, [Vec2::ZERO; 2], Vec3::Z, &frame);
+        assert_eq!(s.base_color, Vec3::new(0.5, 0.25, 0.5));
+        assert_eq!(s.alpha, 0.4);
+        assert_eq!(s.roughness, 0.4);
+        assert_eq!(s.metallic, 0.25);
+        assert_eq!(alpha(&material, &textures, [Vec2::ZERO; 2]), 0.4);
+    }
+
+    /// A flat normal-map texel (0.5, 0.5, 1) leaves the normal alone; one leaning towards +X
+    /// in tangent space tilts the normal towards the tangent (∂p/∂u), and +Y (green) towards
+    /// −∂p/∂v (glTF's v runs down the image).
+    #[test]
+    fn normal_map_tilts_towards_the_tangent_frame() {
+        let frame = TangentFrame { tangent: None, dpdu: Vec3::X, dpdv: -Vec3::Y };
+        let flat = perturb(Vec3::Z, Vec3::new(0.5, 0.5, 1.0), 1.0, &frame);
+        assert!((flat - Vec3::Z).length() < 1e-6);
+        let towards_u = perturb(Vec3::Z, Vec3::new(1.0, 0.5, 0.5), 1.0, &frame);
+        assert!((towards_u - Vec3::X).length() < 1e-6, "{towards_u}");
+        let towards_v = perturb(Vec3::Z, Vec3::new(0.5, 1.0, 0.5), 1.0, &frame);
+        assert!((towards_v - Vec3::Y).length() < 1e-6, "{towards_v}");
+        // Explicit tangents with w = −1 mirror the bitangent.
+        let mirrored = TangentFrame { tangent: Some(Vec4::new(1.0, 0.0, 0.0, -1.0)), ..frame };
+        let v = perturb(Vec3::Z, Vec3::new(0.5, 1.0, 0.5), 1.0, &mirrored);
+        assert!((v + Vec3::Y).length() < 1e-6, "{v}");
+        // scale 0 flattens the map.
+        assert!((perturb(Vec3::Z, Vec3::new(1.0, 0.5, 0.5), 0.0, &frame) - Vec3::Z).length() < 1e-6);
+    }
+}
