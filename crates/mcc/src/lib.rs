@@ -1,1 +1,34 @@
-//! mcc placeholder
+//! The multicamera collage (MCC, SPEC §4–6): ray files and their names, the camera tag code, collage
+//! and region decoding, the lens remapper, and the lens writer and reader that plug into the tracer
+//! as [`tracer::lens::LensShader`]s. Library code reports every problem as an [`MccError`] that names
+//! the file and what is wrong with it; it never prints.
+#![warn(missing_docs)]
+
+pub mod collage;
+pub mod compose;
+pub mod error;
+pub mod lens_reader;
+pub mod lens_writer;
+pub mod names;
+pub mod png;
+pub mod ray_file;
+pub mod regions;
+pub mod remap;
+pub mod slerp;
+pub mod tag;
+
+#[cfg(test)]
+mod test_util;
+
+/// The `image` crate this one's API uses (tagging, composing, debug pictures), re-exported so
+/// callers name the same types.
+pub use image;
+
+pub use collage::{Collage, CollageOptions, StrayPolicy, StrayReport};
+pub use error::{MccError, Result};
+pub use lens_reader::LensReader;
+pub use lens_writer::LensWriter;
+pub use ray_file::{RayFile, RayFormat, StoredRay};
+pub use regions::Regions;
+pub use remap::{RemapConfig, RemapOutput, remap};
+pub use tag::TagCode;

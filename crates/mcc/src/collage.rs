@@ -1,0 +1,434 @@
+//! Collage decoding (SPEC §4, "Collage"): an 8-bit RGB or RGBA image at the views' resolution. A
+//! pixel whose alpha is 0, or whose RGB is exactly (0, 0, 0), is background (id 0); every other
+//! pixel carries its camera id in the tag bits ([`crate::tag`]).
+//!
+//! Bad collages get a report, never a silent guess: a non-background pixel whose id is 0 or names a
+//! camera without a ray file is a *stray* — almost always an antialiased selection edge, whose
+//! blended colours lost the tag bits. Strays are counted and the first few located; the default
+//! policy refuses the collage, [`StrayPolicy::Background`] treats strays as background.
+//!
+//! Pixel formats: 8-bit RGB/RGBA as they are; palette PNGs arrive expanded to exact RGB(A) by the
+//! decoder; 16-bit RGB(A) only when every colour value is an exact up-conversion of an 8-bit value
+//! (v = 257·k, what editors write when they widen an 8-bit image), else refused; greyscale and
+//! floating-point images cannot hold three independent tag fields and are refused.
+
+use crate::error::{MccError, Result};
+use crate::tag::TagCode;
+use image::DynamicImage;
+use std::collections::{BTreeMap, BTreeSet};
+use std::fmt;
+use std::path::Path;
+
+/// How many stray pixels a report locates.
+pub const STRAY_LOCATIONS: usize = 8;
+
+/// What to do with stray pixels.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum StrayPolicy {
+    /// Refuse the collage (the default: a stray is usually a mistake worth fixing).
+    #[default]
+    Refuse,
+    /// Treat strays as background (they are still reported).
+    Background,
+}
+
+/// How to decode a collage.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct CollageOptions {
+    /// The tag code the views were tagged with.
+    pub tag: TagCode,
+    /// What to do with stray pixels.
+    pub strays: StrayPolicy,
+}
+
+/// Stray pixels found in a collage.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct StrayReport {
+    /// Number of stray pixels.
+    pub count: usize,
+    /// How many of them decode to id 0.
+    pub zero_id: usize,
+    /// Ids without a ray file, with their pixel counts.
+    pub unknown_ids: BTreeMap<u32, usize>,
+    /// The first few stray pixels in raster order, as (x, y).
+    pub first: Vec<(u32, u32)>,
+}
+
+impl StrayReport {
+    /// True when the collage had no stray pixel.
+    pub fn is_empty(&self) -> bool {
+        self.count == 0
+    }
+
+    fn add(&mut self, x: u32, y: u32, id: u32) {
+        self.count += 1;
+        if id == 0 {
+            self.zero_id += 1;
+        } else {
+            *self.unknown_ids.entry(id).or_default() += 1;
+        }
+        if self.first.len() < STRAY_LOCATIONS {
+            self.first.push((x, y));
+        }
+    }
+}
+
+impl fmt::Display for StrayReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} non-background pixel(s) carry no usable camera id (", self.count)?;
+        let mut parts = Vec::new();
+        if self.zero_id > 0 {
+            parts.push(format!("{} with id 0", self.zero_id));
+        }
+        if !self.unknown_ids.is_empty() {
+            let ids: Vec<String> = self.unknown_ids.iter().map(|(id, n)| format!("{id} ×{n}")).collect();
+            parts.push(format!("ids with no ray file: {}", ids.join(", ")));
+        }
+        write!(f, "{}); first at ", parts.join("; "))?;
+        let at: Vec<String> = self.first.iter().map(|(x, y)| format!("({x}, {y})")).collect();
+        write!(f, "{}", at.join(", "))?;
+        if self.count > self.first.len() {
+            write!(f, ", …")?;
+        }
+        write!(
+            f,
+            ": probably an antialiased selection edge — cut the collage with hard-edged \
+             selections, or choose the policy that treats such pixels as background"
+        )
+    }
+}
+
+/// A decoded collage: one camera id per pixel (0 = background), row-major.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Collage {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// Camera id per pixel, `y · width + x`; 0 is background.
+    pub ids: Vec<u32>,
+}
+
+impl Collage {
+    /// A collage from its ids; `ids` must hold `width × height` entries.
+    pub fn new(width: u32, height: u32, ids: Vec<u32>) -> Result<Self> {
+        if width == 0 || height == 0 || ids.len() as u64 != width as u64 * height as u64 {
+            return Err(MccError::input(
+                "collage",
+                format!("{} ids for a {width}x{height} image", ids.len()),
+            ));
+        }
+        Ok(Self { width, height, ids })
+    }
+
+    /// The id at (x, y).
+    #[inline]
+    pub fn id(&self, x: u32, y: u32) -> u32 {
+        self.ids[y as usize * self.width as usize + x as usize]
+    }
+
+    /// The camera ids present, ascending.
+    pub fn cameras(&self) -> BTreeSet<u32> {
+        let mut seen = BTreeSet::new();
+        let mut last = 0;
+        for &id in &self.ids {
+            // Runs of one id are the rule: skip the set look-up while the id repeats.
+            if id != last && id != 0 {
+                seen.insert(id);
+            }
+            last = id;
+        }
+        seen
+    }
+
+    /// Refuses a collage whose size differs from `(width, height)` (the views'), naming `path`.
+    pub fn check_size(&self, path: &Path, width: u32, height: u32, expected_from: &str) -> Result<()> {
+        if (self.width, self.height) != (width, height) {
+            return Err(MccError::SizeMismatch {
+                path: path.into(),
+                what: "the collage".into(),
+                found: (self.width, self.height),
+                expected_from: expected_from.into(),
+                expected: (width, height),
+            });
+        }
+        Ok(())
+    }
+
+    /// Reads and decodes the collage at `path`. `known` lists the cameras that have ray files
+    /// (`None`: accept any id). Returns the collage and the strays it had (empty unless the policy
+    /// treats them as background; with [`StrayPolicy::Refuse`] strays are an error).
+    pub fn load(
+        path: &Path,
+        known: Option<&BTreeSet<u32>>,
+        options: CollageOptions,
+    ) -> Result<(Self, StrayReport)> {
+        let image = crate::png::read_image(path)?;
+        Self::decode(&image, path, known, options)
+    }
+
+    /// Decodes an image already in memory; `path` names it in errors.
+    pub fn decode(
+        image: &DynamicImage,
+        path: &Path,
+        known: Option<&BTreeSet<u32>>,
+        options: CollageOptions,
+    ) -> Result<(Self, StrayReport)> {
+        let (width, height) = (image.width(), image.height());
+        let n = width as usize * height as usize;
+        if n == 0 {
+            return Err(MccError::image(path, "the collage is empty (0 pixels)"));
+        }
+        let mut ids = Vec::with_capacity(n);
+        let mut strays = StrayReport::default();
+        let code = options.tag;
+        // (colour, alpha is 0) → (id, stray): colours come in runs, so remember the last answer
+        // instead of looking the id up in `known` for every pixel.
+        let mut last: Option<([u8; 3], bool, u32, bool)> = None;
+        let mut push = |rgb: [u8; 3], alpha_zero: bool| {
+            let (id, stray) = match last {
+                Some((c, a, id, stray)) if c == rgb && a == alpha_zero => (id, stray),
+                _ => {
+                    let background = alpha_zero || rgb == [0, 0, 0];
+                    let id = if background { 0 } else { code.decode(rgb) };
+                    let usable = id != 0 && known.is_none_or(|set| set.contains(&id));
+                    let stray = !background && !usable;
+                    last = Some((rgb, alpha_zero, id, stray));
+                    (id, stray)
+                }
+            };
+            if stray {
+                let k = ids.len() as u32;
+                strays.add(k % width, k / width, id);
+                ids.push(0);
+            } else {
+                ids.push(id);
+            }
+        };
+        match image {
+            DynamicImage::ImageRgb8(img) => img.pixels().for_each(|p| push(p.0, false)),
+            DynamicImage::ImageRgba8(img) => {
+                img.pixels().for_each(|p| push([p.0[0], p.0[1], p.0[2]], p.0[3] == 0))
+            }
+            DynamicImage::ImageRgb16(_) | DynamicImage::ImageRgba16(_) => {
+                let alpha = image.color().has_alpha();
+                let rgba = image.to_rgba16();
+                for (k, p) in rgba.pixels().enumerate() {
+                    let [r, g, b, a] = p.0;
+                    if let Some(v) = [r, g, b].into_iter().find(|v| v % 257 != 0) {
+                        let (x, y) = (k as u32 % width, k as u32 / width);
+                        return Err(MccError::image(
+                            path,
+                            format!(
+                                "16-bit collage: pixel ({x}, {y}) has the value {v}, which is no 8-bit \
+                                 value widened (257·k), so its tag bits are lost; save the collage as \
+                                 8-bit RGB or RGBA"
+                            ),
+                        ));
+                    }
+                    push([(r / 257) as u8, (g / 257) as u8, (b / 257) as u8], alpha && a == 0);
+                }
+            }
+            DynamicImage::ImageLuma8(_)
+            | DynamicImage::ImageLumaA8(_)
+            | DynamicImage::ImageLuma16(_)
+            | DynamicImage::ImageLumaA16(_) => {
+                return Err(MccError::image(
+                    path,
+                    "a greyscale image cannot carry camera tags (they need separate red, green and \
+                     blue bits); save the collage as 8-bit RGB or RGBA",
+                ));
+            }
+            other => {
+                return Err(MccError::image(
+                    path,
+                    format!(
+                        "pixel format {:?} cannot carry exact tag bits; save the collage as 8-bit RGB or RGBA",
+                        other.color()
+                    ),
+                ));
+            }
+        }
+        if !strays.is_empty() && options.strays == StrayPolicy::Refuse {
+            return Err(MccError::StrayPixels { path: path.into(), report: strays });
+        }
+        Ok((Self { width, height, ids }, strays))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use image::{ImageBuffer, Rgb, RgbImage, Rgba, RgbaImage};
+    type Rgb16Image = ImageBuffer<Rgb<u16>, Vec<u16>>;
+
+    fn known(ids: &[u32]) -> BTreeSet<u32> {
+        ids.iter().copied().collect()
+    }
+
+    /// 6 × 3: camera 1 on the left, camera 2 on the right, background in the middle column pair.
+    fn tagged() -> RgbImage {
+        let code = TagCode::default();
+        RgbImage::from_fn(6, 3, |x, _| match x {
+            0 | 1 => Rgb(code.encode([200, 100, 0], 1).unwrap()),
+            4 | 5 => Rgb(code.encode([0, 0, 0], 2).unwrap()),
+            _ => Rgb([0, 0, 0]),
+        })
+    }
+
+    #[test]
+    fn decodes_ids_and_background() {
+        let img = DynamicImage::ImageRgb8(tagged());
+        let (c, strays) =
+            Collage::decode(&img, Path::new("c.png"), Some(&known(&[1, 2])), Default::default()).unwrap();
+        assert!(strays.is_empty());
+        assert_eq!(&c.ids[..6], &[1, 1, 0, 0, 2, 2]);
+        assert_eq!(c.cameras(), known(&[1, 2]));
+        // Alpha 0 is background whatever the colour.
+        let mut rgba = DynamicImage::ImageRgb8(tagged()).to_rgba8();
+        rgba.put_pixel(0, 0, Rgba([201, 101, 1, 0]));
+        let (c, _) =
+            Collage::decode(&DynamicImage::ImageRgba8(rgba), Path::new("c.png"), None, Default::default())
+                .unwrap();
+        assert_eq!(c.id(0, 0), 0);
+        assert_eq!(c.id(1, 0), 1);
+    }
+
+    #[test]
+    fn strays_are_counted_located_and_refused_by_default() {
+        let mut img = tagged();
+        img.put_pixel(2, 1, Rgb([100, 100, 100])); // id 0: a blended edge
+        img.put_pixel(3, 2, Rgb(TagCode::default().encode([9, 9, 9], 7).unwrap())); // no ray file
+        img.put_pixel(3, 0, Rgb([4, 8, 12])); // id 0 again
+        let img = DynamicImage::ImageRgb8(img);
+        let err = Collage::decode(&img, Path::new("cut.png"), Some(&known(&[1, 2])), Default::default())
+            .unwrap_err();
+        let MccError::StrayPixels { report, .. } = &err else { panic!("{err}") };
+        assert_eq!(report.count, 3);
+        assert_eq!(report.zero_id, 2);
+        assert_eq!(report.unknown_ids, BTreeMap::from([(7, 1)]));
+        assert_eq!(report.first, vec![(3, 0), (2, 1), (3, 2)]);
+        let msg = err.to_string();
+        for want in
+            ["cut.png", "3 non-background", "(3, 0), (2, 1), (3, 2)", "antialiased selection edge", "7 ×1"]
+        {
+            assert!(msg.contains(want), "{msg:?} lacks {want:?}");
+        }
+        let options = CollageOptions { strays: StrayPolicy::Background, ..Default::default() };
+        let (c, report) =
+            Collage::decode(&img, Path::new("cut.png"), Some(&known(&[1, 2])), options).unwrap();
+        assert_eq!(report.count, 3);
+        assert_eq!((c.id(2, 1), c.id(3, 2), c.id(3, 0)), (0, 0, 0));
+        // Many strays: only the first few are located.
+        let grey = DynamicImage::ImageRgb8(RgbImage::from_pixel(10, 10, Rgb([4, 4, 4])));
+        let err = Collage::decode(&grey, Path::new("g.png"), None, Default::default()).unwrap_err();
+        let MccError::StrayPixels { report, .. } = &err else { panic!("{err}") };
+        assert_eq!((report.count, report.first.len()), (100, STRAY_LOCATIONS));
+        assert!(err.to_string().contains(", …"));
+    }
+
+    #[test]
+    fn sixteen_bit_only_when_exactly_widened() {
+        let eight = tagged();
+        let wide = Rgb16Image::from_fn(6, 3, |x, y| {
+            let p = eight.get_pixel(x, y).0;
+            Rgb([p[0] as u16 * 257, p[1] as u16 * 257, p[2] as u16 * 257])
+        });
+        let (c, _) = Collage::decode(
+            &DynamicImage::ImageRgb16(wide.clone()),
+            Path::new("w.png"),
+            None,
+            Default::default(),
+        )
+        .unwrap();
+        let (c8, _) =
+            Collage::decode(&DynamicImage::ImageRgb8(eight), Path::new("e.png"), None, Default::default())
+                .unwrap();
+        assert_eq!(c, c8);
+        let mut off = wide;
+        off.put_pixel(4, 2, Rgb([257 * 3 + 1, 0, 0]));
+        let err =
+            Collage::decode(&DynamicImage::ImageRgb16(off), Path::new("w.png"), None, Default::default())
+                .unwrap_err();
+        let msg = err.to_string();
+        assert!(msg.contains("w.png") && msg.contains("(4, 2)") && msg.contains("8-bit"), "{msg}");
+    }
+
+    #[test]
+    fn grey_and_float_images_are_refused_and_palettes_decode() {
+        let grey = DynamicImage::ImageLuma8(image::GrayImage::new(4, 4));
+        assert!(
+            Collage::decode(&grey, Path::new("g.png"), None, Default::default())
+                .unwrap_err()
+                .to_string()
+                .contains("greyscale")
+        );
+        let float = DynamicImage::ImageRgb32F(image::Rgb32FImage::new(4, 4));
+        assert!(Collage::decode(&float, Path::new("f.exr"), None, Default::default()).is_err());
+        // An indexed PNG decodes to exact RGB: write one by hand with the png crate's encoder path.
+        let dir = crate::test_util::scratch_dir("collage-palette");
+        let path = dir.join("palette.png");
+        let code = TagCode::default();
+        let palette = [[0u8, 0, 0], code.encode([120, 40, 200], 5).unwrap()];
+        write_indexed_png(&path, 3, 2, &palette, &[0, 1, 1, 1, 0, 0]);
+        let (c, _) = Collage::load(&path, None, Default::default()).unwrap();
+        assert_eq!(c.ids, vec![0, 5, 5, 5, 0, 0]);
+        let empty = RgbaImage::new(0, 0);
+        assert!(
+            Collage::decode(&DynamicImage::ImageRgba8(empty), Path::new("e.png"), None, Default::default())
+                .is_err()
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A minimal 8-bit indexed PNG (so the palette path is tested without a png dev-dependency).
+    fn write_indexed_png(path: &Path, w: u32, h: u32, palette: &[[u8; 3]], indices: &[u8]) {
+        fn chunk(out: &mut Vec<u8>, kind: &[u8; 4], data: &[u8]) {
+            out.extend_from_slice(&(data.len() as u32).to_be_bytes());
+            let start = out.len();
+            out.extend_from_slice(kind);
+            out.extend_from_slice(data);
+            let crc = crc32(&out[start..]);
+            out.extend_from_slice(&crc.to_be_bytes());
+        }
+        fn crc32(bytes: &[u8]) -> u32 {
+            let mut c = !0u32;
+            for &b in bytes {
+                c ^= b as u32;
+                for _ in 0..8 {
+                    c = if c & 1 != 0 { 0xEDB8_8320 ^ (c >> 1) } else { c >> 1 };
+                }
+            }
+            !c
+        }
+        fn adler32(bytes: &[u8]) -> u32 {
+            let (mut a, mut b) = (1u32, 0u32);
+            for &x in bytes {
+                a = (a + x as u32) % 65521;
+                b = (b + a) % 65521;
+            }
+            (b << 16) | a
+        }
+        let mut raw = Vec::new();
+        for row in indices.chunks(w as usize) {
+            raw.push(0); // filter: none
+            raw.extend_from_slice(row);
+        }
+        // zlib stream with one stored (uncompressed) block.
+        let mut z = vec![0x78, 0x01, 0x01];
+        z.extend_from_slice(&(raw.len() as u16).to_le_bytes());
+        z.extend_from_slice(&(!(raw.len() as u16)).to_le_bytes());
+        z.extend_from_slice(&raw);
+        z.extend_from_slice(&adler32(&raw).to_be_bytes());
+        let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
+        let mut ihdr = Vec::new();
+        ihdr.extend_from_slice(&w.to_be_bytes());
+        ihdr.extend_from_slice(&h.to_be_bytes());
+        ihdr.extend_from_slice(&[8, 3, 0, 0, 0]);
+        chunk(&mut png, b"IHDR", &ihdr);
+        chunk(&mut png, b"PLTE", &palette.concat());
+        chunk(&mut png, b"IDAT", &z);
+        chunk(&mut png, b"IEND", &[]);
+        std::fs::write(path, png).unwrap();
+    }
+}

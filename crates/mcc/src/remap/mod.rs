@@ -1,0 +1,311 @@
+//! The lens remapper (SPEC §5, normative): turns a decoded collage, its regions and the views' ray
+//! files into one ray per pixel. Camera pixels keep their camera's ray bit for bit; background
+//! pixels get a ray blended from the nearest edge pixels of every camera:
+//!
+//! 1. [`edges`]: edge pixels of each camera;
+//! 2. [`nearest`]: exact nearest edge pixel of each camera within the pixel's region;
+//! 3. [`weights`]: initial weights from the distances;
+//! 4. [`smooth`]: blur, ease, blur, renormalise;
+//! 5. [`burp`]: origins by weighted sum, directions by burp of slerps;
+//! 6. [`debug`]: optional pictures of the above.
+//!
+//! Memory: a camera pixel only ever needs its own camera's ray, and e_c(P) is always a pixel of
+//! camera c, so the remapper keeps a single merged plane of source rays ([`SourceRays`]: R_id(p)(p)
+//! at every camera pixel) instead of every camera's file; [`SourceRays::load`] reads the files one
+//! at a time. Per camera it holds one u32 plane (e_c) and one f32 weight plane; a 4K collage with 16
+//! cameras peaks at about 1.5 GiB (measured by `benches/remap.rs`).
+
+pub mod burp;
+pub mod debug;
+pub(crate) mod edges;
+pub(crate) mod nearest;
+pub(crate) mod smooth;
+pub mod weights;
+
+pub use debug::RemapDebug;
+
+use crate::collage::{Collage, CollageOptions, StrayReport};
+use crate::error::{MccError, Result};
+use crate::ray_file::{RayFile, StoredRay};
+use crate::regions::{RegionInfo, Regions};
+use std::collections::{BTreeMap, BTreeSet};
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// Remapper settings (SPEC §5.4); [`RemapConfig::GLASSNER`] is the default.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RemapConfig {
+    /// Radius of the first box blur (step 4a); 0 skips it.
+    pub first_blur_radius: u32,
+    /// Radius of the second box blur (step 4c); 0 skips it.
+    pub second_blur_radius: u32,
+    /// Control value g ∈ (0, 1) of the ease curve (step 4b); 0.5 is the identity.
+    pub ease_control: f32,
+    /// Keep the debug data (edges, weights, dominant camera) in the output.
+    pub debug: bool,
+}
+
+impl RemapConfig {
+    /// The column's settings: blur radii 4 and 3, ease control 0.75.
+    pub const GLASSNER: Self =
+        Self { first_blur_radius: 4, second_blur_radius: 3, ease_control: 0.75, debug: false };
+    /// No smoothing at all: the raw weights of step 3 (for comparisons and tests).
+    pub const UNSMOOTHED: Self =
+        Self { first_blur_radius: 0, second_blur_radius: 0, ease_control: 0.5, debug: false };
+
+    /// Refuses an ease control outside (0, 1).
+    pub fn validate(&self) -> Result<()> {
+        let g = self.ease_control;
+        if !(g.is_finite() && g > 0.0 && g < 1.0) {
+            return Err(MccError::Settings(format!("ease control {g} must be strictly between 0 and 1")));
+        }
+        Ok(())
+    }
+}
+
+impl Default for RemapConfig {
+    fn default() -> Self {
+        Self::GLASSNER
+    }
+}
+
+/// Something the remapper wants the user to know, without failing.
+#[derive(Clone, Debug, PartialEq)]
+pub enum RemapWarning {
+    /// A region with background pixels holds no edge pixel of any camera: every camera took part.
+    RegionWithoutCameras {
+        /// Region index.
+        region: u32,
+        /// Its colour and first pixel.
+        info: RegionInfo,
+        /// How many background pixels it has.
+        background_pixels: usize,
+    },
+    /// Stray collage pixels were treated as background (by request).
+    StraysIgnored(StrayReport),
+}
+
+impl fmt::Display for RemapWarning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::RegionWithoutCameras { region, info, background_pixels } => write!(
+                f,
+                "region {region} ({info}) touches no camera: its {background_pixels} background pixel(s) \
+                 blend all cameras"
+            ),
+            Self::StraysIgnored(report) => write!(f, "treated as background: {report}"),
+        }
+    }
+}
+
+/// The remapper's result.
+#[derive(Clone, Debug)]
+pub struct RemapOutput {
+    /// One ray per pixel (camera id 0, marked computed).
+    pub rays: RayFile,
+    /// Warnings, in the order found.
+    pub warnings: Vec<RemapWarning>,
+    /// Debug data, when asked for.
+    pub debug: Option<RemapDebug>,
+}
+
+/// The source ray of every camera pixel: R_id(p)(p), merged into one plane (background slots are
+/// unused). All the remapper needs from the views' ray files.
+#[derive(Clone, Debug)]
+pub struct SourceRays {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// The rays, row-major.
+    pub rays: Vec<StoredRay>,
+    /// Cameras whose pixels have been filled.
+    pub cameras: BTreeSet<u32>,
+}
+
+impl SourceRays {
+    fn empty(collage: &Collage) -> Self {
+        let rays = vec![StoredRay::default(); collage.ids.len()];
+        Self { width: collage.width, height: collage.height, rays, cameras: BTreeSet::new() }
+    }
+
+    /// Copies camera `id`'s rays at its collage pixels; `name` says which file they came from.
+    fn fill(&mut self, collage: &Collage, id: u32, file: &RayFile, name: &Path) -> Result<()> {
+        if (file.width, file.height) != (collage.width, collage.height) {
+            return Err(MccError::SizeMismatch {
+                path: name.into(),
+                what: format!("camera {id}'s ray file"),
+                found: (file.width, file.height),
+                expected_from: "the collage".into(),
+                expected: (collage.width, collage.height),
+            });
+        }
+        for ((out, &c), ray) in self.rays.iter_mut().zip(&collage.ids).zip(&file.rays) {
+            if c == id {
+                *out = *ray;
+            }
+        }
+        self.cameras.insert(id);
+        Ok(())
+    }
+
+    /// Gathers from ray files already in memory (camera id → file).
+    pub fn gather(collage: &Collage, files: &BTreeMap<u32, RayFile>) -> Result<Self> {
+        let mut sources = Self::empty(collage);
+        for id in collage.cameras() {
+            let file = files.get(&id).ok_or_else(|| missing(id))?;
+            sources.fill(collage, id, file, Path::new(&format!("<camera {id} rays>")))?;
+        }
+        Ok(sources)
+    }
+
+    /// Loads the ray files of the collage's cameras (camera id → path), one at a time, so that
+    /// only one view's rays are ever in memory beside the merged plane.
+    pub fn load(collage: &Collage, paths: &BTreeMap<u32, PathBuf>) -> Result<Self> {
+        let mut sources = Self::empty(collage);
+        for id in collage.cameras() {
+            let path = paths.get(&id).ok_or_else(|| missing(id))?;
+            let file = RayFile::read(path)?;
+            sources.fill(collage, id, &file, path)?;
+        }
+        Ok(sources)
+    }
+}
+
+fn missing(id: u32) -> MccError {
+    MccError::input(format!("camera {id}"), "the collage uses this camera but no ray file was given for it")
+}
+
+/// Splits per-camera planes into rows: `rows[y][k]` is row y of plane k (for row-parallel passes
+/// that touch every camera at a pixel).
+pub(crate) fn rows_mut(planes: &mut [Vec<f32>], width: usize) -> Vec<Vec<&mut [f32]>> {
+    let height = planes.first().map_or(0, |p| p.len() / width.max(1));
+    let mut rows: Vec<Vec<&mut [f32]>> = (0..height).map(|_| Vec::with_capacity(planes.len())).collect();
+    for plane in planes.iter_mut() {
+        for (row, chunk) in rows.iter_mut().zip(plane.chunks_exact_mut(width)) {
+            row.push(chunk);
+        }
+    }
+    rows
+}
+
+/// Remaps a collage with the views' ray files in memory (camera id → file). See [`remap_sources`].
+pub fn remap(
+    collage: &Collage,
+    regions: &Regions,
+    files: &BTreeMap<u32, RayFile>,
+    frame: u32,
+    config: &RemapConfig,
+) -> Result<RemapOutput> {
+    remap_sources(collage, regions, &SourceRays::gather(collage, files)?, frame, config)
+}
+
+/// Remaps a collage (SPEC §5): the returned rays are frame `frame`'s rerender rays.
+pub fn remap_sources(
+    collage: &Collage,
+    regions: &Regions,
+    sources: &SourceRays,
+    frame: u32,
+    config: &RemapConfig,
+) -> Result<RemapOutput> {
+    config.validate()?;
+    let (width, height) = (collage.width as usize, collage.height as usize);
+    regions.check_size(collage.width, collage.height)?;
+    if (sources.width, sources.height) != (collage.width, collage.height)
+        || sources.rays.len() != collage.ids.len()
+    {
+        return Err(MccError::input(
+            "source rays",
+            format!("are {}x{}, but the collage is {width}x{height}", sources.width, sources.height),
+        ));
+    }
+    let cameras: Vec<u32> = collage.cameras().into_iter().collect();
+    if cameras.is_empty() {
+        return Err(MccError::input("collage", "has no camera pixels: there is nothing to remap from"));
+    }
+    if let Some(&id) = cameras.iter().find(|id| !sources.cameras.contains(id)) {
+        return Err(missing(id));
+    }
+    // Dense camera indices (0 background, k + 1 camera k); ids come in runs, so cache the last.
+    let mut last = (0u32, 0u32);
+    let cam: Vec<u32> = collage
+        .ids
+        .iter()
+        .map(|&id| {
+            if id != last.0 {
+                last = (id, if id == 0 { 0 } else { cameras.binary_search(&id).map_or(0, |k| k as u32 + 1) });
+            }
+            last.1
+        })
+        .collect();
+    let edges = edges::edge_mask(&cam, width, height);
+    let boxes = nearest::RegionBoxes::new(&cam, &regions.index, regions.count(), width);
+    let nearest = nearest::nearest_edges(&cam, &edges, &regions.index, &boxes, cameras.len(), width, height);
+    let (participants, warnings) = weights::participants(&nearest, regions, &boxes.background, cameras.len());
+    let mut planes =
+        weights::initial_weights(&cam, &regions.index, &nearest, &participants, cameras.len(), width);
+    let background: Vec<bool> = cam.iter().map(|&c| c == 0).collect();
+    let radii = (config.first_blur_radius as usize, config.second_blur_radius as usize);
+    smooth::smooth(&mut planes, &background, width, height, radii, smooth::Ease::new(config.ease_control));
+    drop(background);
+    let (rays, dominant) = burp::remapped_rays(&cam, &sources.rays, &nearest, &planes, width, config.debug);
+    drop(nearest);
+    let debug = dominant.map(|dominant| RemapDebug {
+        width: collage.width,
+        height: collage.height,
+        cameras: cameras.clone(),
+        cam,
+        edges,
+        weights: planes,
+        dominant,
+    });
+    let mut rays = RayFile::new(collage.width, collage.height, frame, 0, rays)?;
+    rays.computed = true;
+    Ok(RemapOutput { rays, warnings, debug })
+}
+
+/// Everything [`remap_files`] reads.
+#[derive(Clone, Debug)]
+pub struct RemapInputs<'a> {
+    /// The collage image.
+    pub collage: &'a Path,
+    /// The region image; `None` looks for `<collage-stem>-regions.png` beside the collage.
+    pub regions: Option<&'a Path>,
+    /// The directory holding the views' ray files (`frameFFFFcameraCC.{mcr|txt}`).
+    pub rays_dir: &'a Path,
+    /// The frame whose views to use.
+    pub frame: u32,
+    /// How to decode the collage.
+    pub collage_options: CollageOptions,
+}
+
+/// The whole remap stage from files: finds the frame's ray files, decodes the collage against
+/// them, finds the regions, loads the rays one file at a time and remaps. Stray pixels treated as
+/// background come back as a warning.
+pub fn remap_files(inputs: &RemapInputs<'_>, config: &RemapConfig) -> Result<RemapOutput> {
+    config.validate()?;
+    let paths = crate::names::find_view_rays(inputs.rays_dir, inputs.frame)?;
+    if paths.is_empty() {
+        return Err(MccError::Directory {
+            path: inputs.rays_dir.into(),
+            message: format!(
+                "no ray files for frame {} (looked for {} and the like)",
+                inputs.frame,
+                crate::names::view_rays_name(inputs.frame, 1, crate::RayFormat::Binary)
+            ),
+        });
+    }
+    let known: BTreeSet<u32> = paths.keys().copied().collect();
+    let (collage, strays) = Collage::load(inputs.collage, Some(&known), inputs.collage_options)?;
+    let (regions, _) = Regions::find(inputs.collage, inputs.regions, collage.width, collage.height)?;
+    let sources = SourceRays::load(&collage, &paths)?;
+    let mut output = remap_sources(&collage, &regions, &sources, inputs.frame, config)?;
+    if !strays.is_empty() {
+        output.warnings.insert(0, RemapWarning::StraysIgnored(strays));
+    }
+    Ok(output)
+}
+
+#[cfg(test)]
+#[allow(clippy::needless_range_loop)] // the tests index pixels on purpose
+mod tests;

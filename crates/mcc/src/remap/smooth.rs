@@ -1,0 +1,314 @@
+//! Step 4 of the remapper (SPEC §5.4): smoothing. Each camera's weight plane separately and
+//! double-buffered (every output reads only the previous plane), rewriting background pixels only
+//! (camera pixels keep exactly their 0/1 weights):
+//!
+//! a. box blur of radius 4 (9 × 9 window), dividing at the border by the number of window pixels
+//!    inside the image;
+//! b. the ease curve on every background weight;
+//! c. box blur of radius 3 (7 × 7), same rules;
+//! d. renormalise each background pixel's weights to sum to 1.
+//!
+//! The ease curve is Perlin's gain, the column's "ease curve with control value 0.75":
+//! ease(t) = (2t)^k / 2 for t < ½ and 1 − (2 − 2t)^k / 2 otherwise, k = log₂(1 / (1 − g)).
+//! With g = 0.75, k = 2: ease(t) = 2t² below ½, 1 − 2(1 − t)² above (SPEC's form, computed exactly);
+//! g = 0.5 is the identity.
+//!
+//! The blur is separable and runs in constant time per pixel whatever the radius: prefix sums
+//! along each row, then a running sum down the columns kept as one running total per column (rows
+//! are visited in order, so memory is read row by row). Sums are f64, so adding and removing
+//! values leaves no drift worth the name; the clipped window is the product of its clipped row and
+//! column extents, which is the count to divide by.
+
+use rayon::prelude::*;
+
+/// The ease curve with control `g` ∈ (0, 1) (see the module notes).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Ease {
+    exponent: f32,
+}
+
+impl Ease {
+    pub(crate) fn new(control: f32) -> Self {
+        Self { exponent: (1.0 / (1.0 - control)).log2() }
+    }
+
+    #[inline]
+    pub(crate) fn apply(self, t: f32) -> f32 {
+        let pow = |x: f32| if self.exponent == 2.0 { x * x } else { x.powf(self.exponent) };
+        // Both halves, then a select: branch-free, so the plane loop vectorises.
+        let (low, high) = (0.5 * pow(2.0 * t), 1.0 - 0.5 * pow(2.0 - 2.0 * t));
+        if t < 0.5 { low } else { high }
+    }
+
+    /// Applies the curve to a whole plane. Camera pixels hold exactly 0 or 1 after the first
+    /// blur, which the curve maps to themselves, so no background test is needed.
+    fn apply_plane(self, plane: &mut [f32]) {
+        if self.exponent == 2.0 {
+            for v in plane {
+                let t = *v;
+                let (low, high) = (2.0 * t * t, 1.0 - 2.0 * (1.0 - t) * (1.0 - t));
+                *v = if t < 0.5 { low } else { high };
+            }
+        } else {
+            plane.iter_mut().for_each(|v| *v = self.apply(*v));
+        }
+    }
+}
+
+/// Reusable buffers for one plane's smoothing.
+#[derive(Default)]
+pub(crate) struct Scratch {
+    /// Row sums (the horizontal pass), a full plane.
+    rows: Vec<f32>,
+    /// The second buffer of the double-buffered plane.
+    other: Vec<f32>,
+    /// Running column totals.
+    columns: Vec<f64>,
+    /// Reciprocal window widths per column.
+    inverse_x: Vec<f64>,
+    /// Prefix sums of one row.
+    prefix: Vec<f64>,
+}
+
+/// Box blur of `src` into `dst` with window radius `radius`, dividing by the in-image window
+/// count, writing only where `background` is true (elsewhere `dst` gets `src`'s value).
+pub(crate) fn box_blur(
+    src: &[f32],
+    dst: &mut [f32],
+    background: &[bool],
+    width: usize,
+    height: usize,
+    radius: usize,
+    scratch: &mut Scratch,
+) {
+    if radius == 0 {
+        dst.copy_from_slice(src);
+        return;
+    }
+    let Scratch { rows, columns, inverse_x, prefix, .. } = scratch;
+    rows.resize(src.len(), 0.0);
+    // Horizontal: sum over [x − r, x + r] ∩ [0, w) as a difference of prefix sums (one serial
+    // add per pixel, the differences independent of each other).
+    prefix.resize(width + 1, 0.0);
+    for (s, h) in src.chunks_exact(width).zip(rows.chunks_exact_mut(width)) {
+        let mut sum = 0.0f64;
+        for (p, &v) in prefix[1..].iter_mut().zip(s) {
+            sum += v as f64;
+            *p = sum;
+        }
+        // Clipped windows at both ends; in between, one subtraction of two shifted slices.
+        let window =
+            |x: usize| (prefix[(x + radius + 1).min(width)] - prefix[x.saturating_sub(radius)]) as f32;
+        let (left, right) = (radius.min(width), width.saturating_sub(radius).max(radius.min(width)));
+        for x in (0..left).chain(right..width) {
+            h[x] = window(x);
+        }
+        if right > left {
+            let (hi, lo) =
+                (&prefix[left + radius + 1..=right + radius], &prefix[left - radius..right - radius]);
+            for ((out, &a), &b) in h[left..right].iter_mut().zip(hi).zip(lo) {
+                *out = (a - b) as f32;
+            }
+        }
+    }
+    // Vertical: a running total per column over rows [y − r, y + r] ∩ [0, h).
+    columns.clear();
+    columns.resize(width, 0.0);
+    for h in rows.chunks_exact(width).take(radius.min(height)) {
+        columns.iter_mut().zip(h).for_each(|(c, &v)| *c += v as f64);
+    }
+    // 1 / (in-image columns of the window) per x: multiplied, not divided, in the pixel loop.
+    inverse_x.clear();
+    inverse_x.extend(
+        (0..width).map(|x| 1.0 / ((x + radius).min(width - 1) + 1 - x.saturating_sub(radius)) as f64),
+    );
+    for y in 0..height {
+        if y + radius < height {
+            let add = &rows[(y + radius) * width..(y + radius + 1) * width];
+            columns.iter_mut().zip(add).for_each(|(c, &v)| *c += v as f64);
+        }
+        let inverse_y = 1.0 / ((y + radius).min(height - 1) + 1 - y.saturating_sub(radius)) as f64;
+        let range = y * width..(y + 1) * width;
+        let (out, keep, bg) = (&mut dst[range.clone()], &src[range.clone()], &background[range]);
+        for (((out, &keep), &bg), (&sum, &inverse)) in
+            out.iter_mut().zip(keep).zip(bg).zip(columns.iter().zip(&*inverse_x))
+        {
+            let blurred = (sum * inverse * inverse_y) as f32;
+            *out = if bg { blurred } else { keep };
+        }
+        if y >= radius {
+            let sub = &rows[(y - radius) * width..(y - radius + 1) * width];
+            columns.iter_mut().zip(sub).for_each(|(c, &v)| *c -= v as f64);
+        }
+    }
+}
+
+/// Steps 4a–c on one plane: blur, ease, blur; the plane is both input and final output.
+pub(crate) fn smooth_plane(
+    plane: &mut [f32],
+    background: &[bool],
+    width: usize,
+    height: usize,
+    radii: (usize, usize),
+    ease: Ease,
+    scratch: &mut Scratch,
+) {
+    let mut other = std::mem::take(&mut scratch.other);
+    other.resize(plane.len(), 0.0);
+    box_blur(plane, &mut other, background, width, height, radii.0, scratch);
+    ease.apply_plane(&mut other);
+    box_blur(&other, plane, background, width, height, radii.1, scratch);
+    scratch.other = other;
+}
+
+/// Step 4 on all planes: a–c per camera (cameras in parallel), then d per pixel (rows in
+/// parallel). Weights summing to 1 keep a maximum ≥ 1/C through the first blur, so the eased sum
+/// is ≥ 2/C² > 0; should it still vanish (f32 underflow needs ~2^60 cameras) the pixel gets equal
+/// weights rather than a division by zero.
+pub(crate) fn smooth(
+    planes: &mut [Vec<f32>],
+    background: &[bool],
+    width: usize,
+    height: usize,
+    radii: (usize, usize),
+    ease: Ease,
+) {
+    // As many groups of cameras as threads, one scratch each: fresh scratch planes per camera
+    // would pay the page faults of their first touch every time.
+    let per_group = planes.len().div_ceil(rayon::current_num_threads().clamp(1, planes.len().max(1))).max(1);
+    planes.par_chunks_mut(per_group).for_each(|group| {
+        let mut scratch = Scratch::default();
+        for plane in group {
+            smooth_plane(plane, background, width, height, radii, ease, &mut scratch);
+        }
+    });
+    let rows = super::rows_mut(planes, width);
+    rows.into_par_iter().enumerate().for_each(|(y, mut row)| {
+        for x in 0..width {
+            if !background[y * width + x] {
+                continue;
+            }
+            let sum: f64 = row.iter().map(|plane| plane[x] as f64).sum();
+            if sum > 0.0 && sum.is_finite() {
+                let inverse = 1.0 / sum;
+                row.iter_mut().for_each(|plane| plane[x] = (plane[x] as f64 * inverse) as f32);
+            } else {
+                let equal = 1.0 / row.len() as f32;
+                row.iter_mut().for_each(|plane| plane[x] = equal);
+            }
+        }
+    });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_util::Rng;
+
+    /// The definition: average over the clipped window, background pixels only.
+    fn brute_blur(src: &[f32], bg: &[bool], w: usize, h: usize, r: usize) -> Vec<f32> {
+        (0..w * h)
+            .map(|p| {
+                if !bg[p] {
+                    return src[p];
+                }
+                let (x, y) = (p % w, p / w);
+                let (mut sum, mut n) = (0.0f64, 0);
+                for yy in y.saturating_sub(r)..=(y + r).min(h - 1) {
+                    for xx in x.saturating_sub(r)..=(x + r).min(w - 1) {
+                        sum += src[yy * w + xx] as f64;
+                        n += 1;
+                    }
+                }
+                (sum / n as f64) as f32
+            })
+            .collect()
+    }
+
+    fn random_plane(rng: &mut Rng, w: usize, h: usize) -> (Vec<f32>, Vec<bool>) {
+        let bg: Vec<bool> = (0..w * h).map(|_| rng.below(3) != 0).collect();
+        let plane = bg.iter().map(|&b| if b { rng.unit() } else { rng.below(2) as f32 }).collect();
+        (plane, bg)
+    }
+
+    #[test]
+    fn blur_equals_the_window_average() {
+        let mut rng = Rng::new(4);
+        let mut scratch = Scratch::default();
+        for _ in 0..300 {
+            let (w, h) = (1 + rng.below(25) as usize, 1 + rng.below(20) as usize);
+            let r = rng.below(6) as usize;
+            let (plane, bg) = random_plane(&mut rng, w, h);
+            let mut got = vec![0.0; w * h];
+            box_blur(&plane, &mut got, &bg, w, h, r, &mut scratch);
+            let want = brute_blur(&plane, &bg, w, h, r);
+            for p in 0..w * h {
+                assert!((got[p] - want[p]).abs() < 1e-6, "{w}x{h} r={r} p={p}: {} vs {}", got[p], want[p]);
+                if !bg[p] {
+                    assert_eq!(got[p].to_bits(), plane[p].to_bits(), "camera pixels keep their weight");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn ease_is_the_spec_curve() {
+        let ease = Ease::new(0.75);
+        for k in 0..=100 {
+            let t = k as f32 / 100.0;
+            let want = if t < 0.5 { 2.0 * t * t } else { 1.0 - 2.0 * (1.0 - t) * (1.0 - t) };
+            assert_eq!(ease.apply(t), want);
+        }
+        let identity = Ease::new(0.5);
+        for t in [0.0, 0.1, 0.5, 0.9, 1.0] {
+            assert!((identity.apply(t) - t).abs() < 1e-6);
+        }
+        // Other controls stay monotone and fix 0, ½, 1.
+        let soft = Ease::new(0.6);
+        assert_eq!((soft.apply(0.0), soft.apply(0.5), soft.apply(1.0)), (0.0, 0.5, 1.0));
+    }
+
+    #[test]
+    fn smoothing_steps_equal_direct_implementations() {
+        let mut rng = Rng::new(9);
+        for _ in 0..50 {
+            let (w, h, cams) =
+                (1 + rng.below(30) as usize, 1 + rng.below(20) as usize, 1 + rng.below(4) as usize);
+            // Weight planes that sum to one per pixel, camera pixels one-hot.
+            let mut planes = vec![vec![0f32; w * h]; cams];
+            let bg: Vec<bool> = (0..w * h).map(|_| rng.below(3) != 0).collect();
+            for p in 0..w * h {
+                if bg[p] {
+                    let raw: Vec<f32> = (0..cams).map(|_| rng.unit() + 1e-3).collect();
+                    let s: f32 = raw.iter().sum();
+                    (0..cams).for_each(|k| planes[k][p] = raw[k] / s);
+                } else {
+                    planes[rng.below(cams as u32) as usize][p] = 1.0;
+                }
+            }
+            let ease = Ease::new(0.75);
+            let want: Vec<Vec<f32>> = planes
+                .iter()
+                .map(|pl| {
+                    let a = brute_blur(pl, &bg, w, h, 4);
+                    let b: Vec<f32> =
+                        a.iter().zip(&bg).map(|(&v, &b)| if b { ease.apply(v) } else { v }).collect();
+                    brute_blur(&b, &bg, w, h, 3)
+                })
+                .collect();
+            let mut got = planes.clone();
+            smooth(&mut got, &bg, w, h, (4, 3), ease);
+            for p in 0..w * h {
+                let sum: f64 = want.iter().map(|pl| pl[p] as f64).sum();
+                for k in 0..cams {
+                    let expect = if bg[p] { (want[k][p] as f64 / sum) as f32 } else { planes[k][p] };
+                    assert!((got[k][p] - expect).abs() < 1e-5, "{w}x{h} k={k} p={p}");
+                }
+                if bg[p] {
+                    let total: f32 = got.iter().map(|pl| pl[p]).sum();
+                    assert!((total - 1.0).abs() < 1e-5);
+                }
+            }
+        }
+    }
+}
