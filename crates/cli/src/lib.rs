@@ -2,11 +2,15 @@
 //! calls the `tracer` and `mcc` libraries. Nothing here renders or remaps by itself.
 
 mod args;
+mod collage;
 mod demo;
 mod info;
 mod output;
 mod progress;
+mod remap;
 mod render;
+mod rerender;
+mod tag;
 
 use clap::{Parser, Subcommand};
 use std::ffi::OsString;
@@ -26,6 +30,14 @@ enum Command {
     Render(render::RenderArgs),
     /// Show what a scene holds: cameras, triangles, materials, lights, warnings.
     Info(info::InfoArgs),
+    /// Stamp a camera number into the low bits of an image (the standalone camera tagger).
+    Tag(tag::TagArgs),
+    /// Compose a collage from a label image and the tagged views (the editor step, scripted).
+    Collage(collage::CollageArgs),
+    /// Turn a collage and the views' ray files into one ray per pixel (the lens remapper).
+    Remap(remap::RemapArgs),
+    /// Render a scene through a collage's rays (remaps first unless given --lens FILE).
+    Rerender(rerender::RerenderArgs),
     /// Run the main job on the bundled scene and write every picture to one folder.
     Demo(demo::DemoArgs),
 }
@@ -58,6 +70,10 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Render(a) => render::run(a),
         Command::Info(a) => info::run(a),
+        Command::Tag(a) => tag::run(a),
+        Command::Collage(a) => collage::run(a),
+        Command::Remap(a) => remap::run(a),
+        Command::Rerender(a) => rerender::run(a),
         Command::Demo(a) => demo::run(a),
     }
 }

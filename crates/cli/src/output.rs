@@ -3,8 +3,23 @@
 
 use anyhow::Context;
 use std::path::{Path, PathBuf};
-use tracer::image_io::{Aov, write_exr, write_png_srgb};
+use tracer::image::RgbImage;
+use tracer::image_io::{Aov, linear_to_srgb8, write_exr, write_png_rgb8, write_png_srgb};
 use tracer::render::Rendered;
+
+/// What the PNG beside the EXR shows.
+#[derive(Clone, Copy, Debug)]
+pub enum Png {
+    /// The sRGB preview.
+    Preview,
+    /// The sRGB preview with the view's camera number in the low bits (SPEC §4, the tagger).
+    Tagged {
+        /// The tag code.
+        code: mcc::TagCode,
+        /// The camera number.
+        camera: u32,
+    },
+}
 
 /// What to record in the EXR header besides the image.
 pub struct RenderInfo<'a> {
@@ -16,13 +31,13 @@ pub struct RenderInfo<'a> {
     pub frame: u32,
 }
 
-/// Writes `rendered` to `exr` (and its PNG preview beside it, unless `png` says otherwise);
-/// returns the preview's path.
+/// Writes `rendered` to `exr` and a PNG beside it; returns the PNG's path.
 pub fn write_render(
     exr: &Path,
     rendered: &Rendered,
     info: &RenderInfo<'_>,
     aovs: bool,
+    png: Png,
 ) -> anyhow::Result<PathBuf> {
     let images = &rendered.images;
     let metadata = [
@@ -45,9 +60,24 @@ pub fn write_render(
     } else {
         Vec::new()
     };
-    write_exr(exr, &images.image, &layers, &metadata)
-        .with_context(|| format!("writing {}", exr.display()))?;
-    let png = exr.with_extension("png");
-    write_png_srgb(&png, &images.image).with_context(|| format!("writing {}", png.display()))?;
-    Ok(png)
+    write_exr(exr, &images.image, &layers, &metadata)?;
+    let png_path = exr.with_extension("png");
+    write_png(&png_path, &images.image, png)?;
+    Ok(png_path)
+}
+
+/// Writes `image` as an 8-bit sRGB PNG, tagged or not.
+pub fn write_png(path: &Path, image: &RgbImage, png: Png) -> anyhow::Result<()> {
+    match png {
+        Png::Preview => write_png_srgb(path, image)?,
+        Png::Tagged { code, camera } => {
+            let bytes: Vec<u8> =
+                image.pixels.iter().flat_map(|p| p.to_array().map(linear_to_srgb8)).collect();
+            let mut rgb = mcc::image::RgbImage::from_raw(image.width, image.height, bytes)
+                .context("image size does not match its pixels")?;
+            code.tag_rgb(&mut rgb, camera)?;
+            write_png_rgb8(path, image.width, image.height, rgb.as_raw())?;
+        }
+    }
+    Ok(())
 }

@@ -1,13 +1,14 @@
 //! `mcctrace render`: render a scene from one or more cameras (SPEC §3, §8).
 
 use crate::args::{Resolution, Vec3Arg};
-use crate::output::{RenderInfo, write_render};
+use crate::output::{Png, RenderInfo, write_render};
 use crate::progress::Bar;
 use crate::with_threads;
 use anyhow::{Context, bail};
 use clap::{Args, ValueEnum};
+use glam::UVec2;
 use std::path::{Path, PathBuf};
-use tracer::camera::{CameraDesc, Projection};
+use tracer::camera::{Camera, CameraDesc, Overscan, Projection};
 use tracer::integrator::{IntegratorConfig, PathTracer};
 use tracer::lens::LensChain;
 use tracer::render::{RenderSettings, Rendered, render};
@@ -69,9 +70,9 @@ pub struct QualityArgs {
     /// Samples per pixel (1 … 65536).
     #[arg(long, default_value_t = 64)]
     pub spp: u32,
-    /// Output resolution.
-    #[arg(long, default_value = "640x360", value_name = "WxH")]
-    pub res: Resolution,
+    /// Output resolution (default 640x360; for `rerender`, the ray file's).
+    #[arg(long, value_name = "WxH")]
+    pub res: Option<Resolution>,
     /// Seed of the sample sequence: the same seed gives the same image bit for bit.
     #[arg(long, default_value_t = 0)]
     pub seed: u32,
@@ -95,6 +96,31 @@ pub struct QualityArgs {
     pub quiet: bool,
 }
 
+/// Ray-file encodings, for every command that writes ray files.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum RayFormatArg {
+    /// Binary .mcr (smaller and faster; the default).
+    Binary,
+    /// The column's text format, .txt.
+    Text,
+}
+
+impl From<RayFormatArg> for mcc::RayFormat {
+    fn from(f: RayFormatArg) -> Self {
+        match f {
+            RayFormatArg::Binary => mcc::RayFormat::Binary,
+            RayFormatArg::Text => mcc::RayFormat::Text,
+        }
+    }
+}
+
+impl QualityArgs {
+    /// The resolution asked for, or the default 640x360.
+    pub fn resolution(&self) -> UVec2 {
+        self.res.map_or(UVec2::new(640, 360), |r| r.0)
+    }
+}
+
 /// Arguments of `mcctrace render`.
 #[derive(Args, Debug)]
 pub struct RenderArgs {
@@ -109,6 +135,21 @@ pub struct RenderArgs {
     /// frameFFFFcameraCC.exr and .png per camera.
     #[arg(long)]
     pub out: PathBuf,
+    /// MCC lens writer: also record every pixel's centre ray as frameFFFFcameraCC.mcr (or .txt).
+    #[arg(long)]
+    pub lens_writer: bool,
+    /// MCC camera tagger: the PNG beside each EXR carries the camera number in its low bits.
+    #[arg(long)]
+    pub tag: bool,
+    /// Bits per channel of the camera tag (camera ids 1 … 2^(3·bits) − 1).
+    #[arg(long, default_value_t = 2, value_name = "B")]
+    pub tag_bits: u8,
+    /// Encoding of ray files.
+    #[arg(long, value_enum, default_value = "binary")]
+    pub ray_format: RayFormatArg,
+    /// Render an extra border of N pixels around each view (undo with `rerender --crop N`).
+    #[arg(long, default_value_t = 0, value_name = "N")]
+    pub overscan: u32,
 }
 
 /// A camera to render, with its view number.
@@ -180,31 +221,33 @@ pub fn prepare(scene: &mut Scene, q: &QualityArgs) -> anyhow::Result<PathTracer>
     Ok(PathTracer::new(scene, integrator_config(q))?)
 }
 
-/// Renders one view with a progress bar and prints a summary line.
-pub fn render_view(
+/// Builds `view`'s camera at `res`, with an overscan border of `overscan` pixels.
+pub fn build_camera(view: &View, res: UVec2, overscan: u32) -> anyhow::Result<Box<dyn Camera>> {
+    let camera = view.desc.build(res)?;
+    Ok(if overscan > 0 { Box::new(Overscan::new(camera, overscan)) } else { camera })
+}
+
+/// Renders through `camera` with a progress bar; warns about non-finite samples.
+pub fn render_camera(
     tracer: &PathTracer,
-    view: &View,
+    camera: &dyn Camera,
+    name: &str,
+    camera_id: u32,
     lenses: &mut LensChain,
     q: &QualityArgs,
     frame: u32,
 ) -> anyhow::Result<Rendered> {
-    let camera = view.desc.build(q.res.0)?;
-    let settings = RenderSettings {
-        spp: q.spp,
-        seed: q.seed,
-        frame,
-        camera_id: view.id,
-        shutter: (0.0, 0.0),
-        aovs: q.aovs,
-    };
-    let bar = Bar::new(q.res.0.x as u64 * q.res.0.y as u64, &view.desc.name, q.quiet);
-    let rendered = with_threads(q.threads, || render(tracer, camera.as_ref(), lenses, &settings, &bar))?;
+    let settings =
+        RenderSettings { spp: q.spp, seed: q.seed, frame, camera_id, shutter: (0.0, 0.0), aovs: q.aovs };
+    let res = camera.resolution();
+    let bar = Bar::new(res.x as u64 * res.y as u64, name, q.quiet);
+    let rendered = with_threads(q.threads, || render(tracer, camera, lenses, &settings, &bar))?;
     bar.finish();
-    let rendered = rendered.with_context(|| format!("rendering camera '{}'", view.desc.name))?;
+    let rendered = rendered.with_context(|| format!("rendering camera '{name}'"))?;
     if rendered.stats.nonfinite_samples > 0 {
         eprintln!(
-            "warning: camera '{}': {} samples were NaN or infinite and were recorded as black",
-            view.desc.name, rendered.stats.nonfinite_samples
+            "warning: camera '{name}': {} samples were NaN or infinite and were recorded as black",
+            rendered.stats.nonfinite_samples
         );
     }
     Ok(rendered)
@@ -214,8 +257,9 @@ pub fn render_view(
 pub fn summary(name: &str, q: &QualityArgs, r: &Rendered, out: &Path) -> String {
     let s = &r.stats;
     format!(
-        "{name}: {} at {} spp in {:.2} s ({:.2} M samples/s, {:.1} M rays/s) -> {}",
-        q.res,
+        "{name}: {}x{} at {} spp in {:.2} s ({:.2} M samples/s, {:.1} M rays/s) -> {}",
+        r.images.image.width,
+        r.images.image.height,
         q.spp,
         s.seconds,
         s.samples as f64 / s.seconds / 1e6,
@@ -250,12 +294,25 @@ pub fn output_paths(out: &Path, views: &[View], frame: u32) -> anyhow::Result<Ve
 
 pub fn run(a: RenderArgs) -> anyhow::Result<()> {
     let q = &a.quality;
+    let code = mcc::TagCode::new(a.tag_bits)?;
     let mut scene = load_scene(&a.scene.scene, q.quiet)?;
     let views = select_views(&scene, &a.scene)?;
+    if a.tag {
+        for v in &views {
+            code.check_id(v.id)?;
+        }
+    }
     let outputs = output_paths(&a.out, &views, a.frame)?;
     let tracer = prepare(&mut scene, q)?;
     for (view, exr) in views.iter().zip(&outputs) {
-        let rendered = render_view(&tracer, view, &mut LensChain::new(), q, a.frame)?;
+        let camera = build_camera(view, q.resolution(), a.overscan)?;
+        let mut lenses = LensChain::new();
+        if a.lens_writer {
+            let dir = exr.parent().map(Path::to_path_buf).unwrap_or_default();
+            lenses.push(Box::new(mcc::LensWriter::new(dir, a.ray_format.into())));
+        }
+        let rendered =
+            render_camera(&tracer, camera.as_ref(), &view.desc.name, view.id, &mut lenses, q, a.frame)?;
         let info = RenderInfo {
             scene: &a.scene.scene,
             camera: &view.desc.name,
@@ -264,7 +321,8 @@ pub fn run(a: RenderArgs) -> anyhow::Result<()> {
             max_depth: q.max_depth,
             frame: a.frame,
         };
-        write_render(exr, &rendered, &info, q.aovs)?;
+        let png = if a.tag { Png::Tagged { code, camera: view.id } } else { Png::Preview };
+        write_render(exr, &rendered, &info, q.aovs, png)?;
         if !q.quiet {
             eprintln!("{}", summary(&view.desc.name, q, &rendered, exr));
         }

@@ -8,12 +8,14 @@
 mod equirect;
 mod fisheye;
 mod orthographic;
+mod overscan;
 mod perspective;
 mod thin_lens;
 
 pub use equirect::Equirectangular;
 pub use fisheye::Fisheye;
 pub use orthographic::Orthographic;
+pub use overscan::Overscan;
 pub use perspective::Perspective;
 pub use thin_lens::ThinLens;
 
