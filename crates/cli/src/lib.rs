@@ -65,6 +65,16 @@ where
     }
 }
 
+/// Parses and runs `args` (program name first), returning the error instead of printing it:
+/// the entry point for tests and scripts that drive `mcctrace` in-process.
+pub fn try_run<I, T>(args: I) -> anyhow::Result<()>
+where
+    I: IntoIterator<Item = T>,
+    T: Into<OsString> + Clone,
+{
+    run(Cli::try_parse_from(args)?)
+}
+
 /// Runs a parsed command line.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {

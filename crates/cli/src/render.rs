@@ -150,6 +150,10 @@ pub struct RenderArgs {
     /// Render an extra border of N pixels around each view (undo with `rerender --crop N`).
     #[arg(long, default_value_t = 0, value_name = "N")]
     pub overscan: u32,
+    /// Number of the first view; the others follow in command-line order (for views rendered
+    /// in separate runs).
+    #[arg(long, default_value_t = 1, value_name = "ID")]
+    pub first_id: u32,
 }
 
 /// A camera to render, with its view number.
@@ -296,7 +300,13 @@ pub fn run(a: RenderArgs) -> anyhow::Result<()> {
     let q = &a.quality;
     let code = mcc::TagCode::new(a.tag_bits)?;
     let mut scene = load_scene(&a.scene.scene, q.quiet)?;
-    let views = select_views(&scene, &a.scene)?;
+    let mut views = select_views(&scene, &a.scene)?;
+    if a.first_id == 0 {
+        bail!("--first-id must be at least 1 (0 means no camera)");
+    }
+    for v in &mut views {
+        v.id += a.first_id - 1;
+    }
     if a.tag {
         for v in &views {
             code.check_id(v.id)?;
