@@ -3,6 +3,8 @@
 //! .glb) and `obj` (OBJ/MTL; a directory or list of OBJ files is one scene). The acceleration
 //! structure and light sampling structures are built from a `Scene` by `crate::integrator`.
 
+pub mod camera_list;
+mod environment;
 mod gltf;
 mod mesh;
 mod obj;

@@ -1,23 +1,42 @@
 //! OBJ/MTL loader (tobj): one or several OBJ files, or every `*.obj` of a directory, form one
-//! scene. Faces are triangulated; positions, normals and texture coordinates go into the mesh.
+//! scene. Faces are triangulated; positions, normals and texture coordinates go into the mesh
+//! (OBJ's v runs up from the image's bottom: it is flipped to glTF's v-down convention).
 //!
 //! MTL parameters map onto the glTF-style [`Material`]:
-//! - `Kd` → base colour; metallic 0.
+//! - `Kd` → base colour; metallic 0. `map_Kd` → sRGB base colour texture.
 //! - `Ke` → emitted radiance from the **front face only** (`emission_two_sided = false`): the
 //!   counter-clockwise side, as the Cornell reference's one-sided light. OBJ has no way to say
 //!   "two-sided emitter", and a one-sided rule is what a light fixture modelled as a quad needs.
+//!   `map_Ke` → sRGB emissive texture (scaling `Ke`; `Ke` 1 when only the map is given).
 //! - `Ks`, `Ns` → the `KHR_materials_specular` layer: specular 1 with specular colour Ks / 0.04,
 //!   so the dielectric F0 = min(0.04 · colour, 1) is Ks itself; the Blinn–Phong exponent Ns maps
 //!   to the Beckmann-equivalent α = sqrt(2 / (Ns + 2)) and roughness = sqrt(α). No `Ks` (or a
-//!   black one) leaves a pure Lambertian surface (specular 0).
-//! - Texture maps (`map_Kd` …) are ignored for now, with a warning.
+//!   black one) leaves a pure Lambertian surface (specular 0). `illum` 3 and 5 (ray-traced
+//!   reflection) keep this mapping.
+//! - `map_Bump`, `bump`, `norm` → a **tangent-space normal map** (glTF's convention), with `-bm`
+//!   as its scale. MTL's `bump` is classically a height map, which this renderer cannot use: a
+//!   greyscale image there is reported and ignored; an RGB one is taken for the normal map that
+//!   modern exporters write.
+//! - `d` (dissolve) → alpha, and `Tr` = 1 − d when `d` is absent; alpha below 1 makes the
+//!   material `AlphaMode::Blend`. `map_d` naming the `map_Kd` image uses that image's alpha as a
+//!   cut-out (`AlphaMode::Mask` at 0.5, or `Blend` with d < 1).
+//! - `illum` 4, 6, 7 (refraction, glass) → transmission 1 with the index of refraction `Ni`
+//!   (1.5 when absent or below 1). Glass is tinted by `Tf` (white when absent): `Kd`, a diffuse
+//!   colour, does not apply to it.
+//! - Texture options: `-o` and `-s` (offset, scale of u and v) become a texture transform,
+//!   `-clamp on` clamps, `-bm` scales a normal map; other options are reported and ignored.
+//!   Texture files are found relative to the MTL file.
+//! - Other maps (`map_Ka`, `map_Ks`, `map_Ns`, `disp`, `refl` …) are ignored, with a warning.
 //!
-//! A missing or malformed MTL file and an unknown material name are warnings (the surface gets
-//! [`Material::default()`]), never errors: the geometry is still worth rendering.
+//! A missing or malformed MTL file, an unknown material name and a missing or undecodable texture
+//! are warnings (the surface gets [`Material::default()`], or the slot is left empty), never
+//! errors: the geometry is still worth rendering.
 
+use super::gltf::images::{self, ColorSpace};
 use super::{MeshPart, Scene};
 use crate::error::{Result, TracerError};
-use crate::material::Material;
+use crate::material::{AlphaMode, Material};
+use crate::texture::{Filter, TextureRef, Wrap};
 use glam::{Vec2, Vec3};
 use std::cell::RefCell;
 use std::collections::HashMap;
@@ -46,6 +65,7 @@ pub(super) fn load_files(first: &Path, paths: &[PathBuf]) -> Result<Scene> {
         scene: Scene { path: first.to_owned(), ..Scene::default() },
         by_key: HashMap::new(),
         default_material: None,
+        textures: HashMap::new(),
     };
     for path in paths {
         loader.load(path)?;
@@ -65,6 +85,9 @@ struct Loader {
     by_key: HashMap<(PathBuf, usize), u32>,
     /// Index of `Material::default()` once something needed it.
     default_material: Option<u32>,
+    /// Scene texture of each (image file, colour space) read so far; `None` once it failed
+    /// (reported once).
+    textures: HashMap<(PathBuf, ColorSpace), Option<u32>>,
 }
 
 /// A material library tobj loaded for one OBJ file, in load order.
@@ -157,20 +180,97 @@ impl Loader {
         if let Some(&index) = self.by_key.get(&key) {
             return index;
         }
-        let (material, textures) = convert(m);
-        if !textures.is_empty() {
-            let msg = format!(
-                "material '{}' ({}): textures not supported yet; ignoring {}",
-                m.name,
-                key.0.display(),
-                textures.join(", ")
-            );
+        let mtl = key.0.clone();
+        let label = format!("material '{}' ({})", m.name, mtl.display());
+        let Converted { mut material, maps, ignored, notes } = convert(m);
+        for note in notes {
+            self.warn(obj, format!("{label}: {note}"));
+        }
+        if !ignored.is_empty() {
+            let msg = format!("{label}: not supported, ignored: {}", ignored.join(", "));
             self.warn(obj, msg);
+        }
+        let dir = mtl.parent().unwrap_or(Path::new(".")).to_owned();
+        for (slot, statement, spec) in maps {
+            let what = format!("{label}: {statement} '{}'", spec.file);
+            if !spec.ignored_options.is_empty() {
+                self.warn(obj, format!("{what}: options ignored: {}", spec.ignored_options.join(" ")));
+            }
+            let space = if slot == Slot::Normal { ColorSpace::Linear } else { ColorSpace::Srgb };
+            let Some(reference) = self.texture(obj, &dir, &spec, space, &what, slot == Slot::Normal) else {
+                continue;
+            };
+            let t = &mut material.textures;
+            match slot {
+                Slot::BaseColor => t.base_color = Some(reference),
+                Slot::Emissive => t.emissive = Some(reference),
+                Slot::Normal => t.normal = Some((reference, spec.bump_scale.unwrap_or(1.0))),
+            }
+        }
+        // A cut-out needs the base colour texture's alpha; without it, nothing is cut.
+        if material.textures.base_color.is_none() && matches!(material.alpha_mode, AlphaMode::Mask { .. }) {
+            material.alpha_mode = AlphaMode::Opaque;
         }
         self.scene.materials.push(material);
         let index = (self.scene.materials.len() - 1) as u32;
         self.by_key.insert(key, index);
         index
+    }
+
+    /// Reads the image of a texture statement (relative to the MTL's folder `dir`) into a scene
+    /// texture, once per file and colour space; `None` (with a warning naming it) when it cannot
+    /// be used. `normal` refuses greyscale images (height maps).
+    fn texture(
+        &mut self,
+        obj: &Path,
+        dir: &Path,
+        spec: &MapSpec,
+        space: ColorSpace,
+        what: &str,
+        normal: bool,
+    ) -> Option<TextureRef> {
+        // MTL files written on Windows separate folders with backslashes.
+        let relative = if cfg!(windows) { spec.file.clone() } else { spec.file.replace('\\', "/") };
+        let file = dir.join(relative);
+        let index = match self.textures.get(&(file.clone(), space)) {
+            Some(found) => *found,
+            None => {
+                let decoded = std::fs::read(&file)
+                    .map_err(|e| format!("cannot read {}: {e}", file.display()))
+                    .and_then(|bytes| images::decode(&bytes).map_err(|m| format!("{}: {m}", file.display())))
+                    .and_then(|image| {
+                        if normal && images::is_greyscale(&image) {
+                            Err(format!(
+                                "{} is greyscale, a height map; only tangent-space normal maps are supported",
+                                file.display()
+                            ))
+                        } else {
+                            Ok(image)
+                        }
+                    });
+                let index = match decoded {
+                    Ok(image) => {
+                        let texture = images::to_texture(file.display().to_string(), &image, space);
+                        self.scene.textures.push(texture);
+                        Some((self.scene.textures.len() - 1) as u32)
+                    }
+                    Err(m) => {
+                        self.warn(obj, format!("{what}: {m}; the texture is left out"));
+                        None
+                    }
+                };
+                self.textures.insert((file, space), index);
+                index
+            }
+        }?;
+        let wrap = if spec.clamp { Wrap::ClampToEdge } else { Wrap::Repeat };
+        Some(TextureRef {
+            texture: index,
+            uv_set: 0,
+            transform: spec.transform(),
+            wrap: [wrap; 2],
+            filter: Filter::Linear,
+        })
     }
 
     fn default_material(&mut self) -> u32 {
@@ -219,9 +319,107 @@ impl Loader {
     }
 }
 
-/// Maps one MTL material (see the module docs); also returns the texture statements it ignores.
-fn convert(m: &tobj::Material) -> (Material, Vec<String>) {
+/// A material slot an MTL texture statement fills.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Slot {
+    BaseColor,
+    Emissive,
+    Normal,
+}
+
+/// A texture statement's file and options.
+#[derive(Clone, Debug, Default, PartialEq)]
+struct MapSpec {
+    file: String,
+    /// `-o u v`: offset in MTL's (v-up) texture space.
+    offset: [f32; 2],
+    /// `-s u v`: scale.
+    scale: [f32; 2],
+    /// `-clamp on`.
+    clamp: bool,
+    /// `-bm`: normal-map scale.
+    bump_scale: Option<f32>,
+    /// Options read but not supported, as written.
+    ignored_options: Vec<String>,
+}
+
+impl MapSpec {
+    /// Parses `[options] file`: the options MTL defines, each with its arguments; the rest of the
+    /// line is the file name (which may contain spaces).
+    fn parse(value: &str) -> Result<Self, String> {
+        let mut spec = Self { scale: [1.0; 2], ..Self::default() };
+        let words: Vec<&str> = value.split_whitespace().collect();
+        let mut i = 0;
+        let number = |w: &str| w.parse::<f32>().ok().filter(|v| v.is_finite());
+        while let Some(&word) = words.get(i) {
+            // Options with their fixed argument counts; -o, -s, -t take one to three numbers.
+            let fixed = match word {
+                "-blendu" | "-blendv" | "-boost" | "-texres" | "-clamp" | "-bm" | "-imfchan" | "-type"
+                | "-cc" => 1,
+                "-mm" => 2,
+                "-o" | "-s" | "-t" => 0,
+                _ => break,
+            };
+            let args: Vec<&str> = if fixed > 0 {
+                words
+                    .get(i + 1..i + 1 + fixed)
+                    .ok_or_else(|| format!("option {word} lacks its value"))?
+                    .to_vec()
+            } else {
+                words[i + 1..].iter().take(3).take_while(|w| number(w).is_some()).copied().collect()
+            };
+            if args.is_empty() {
+                return Err(format!("option {word} lacks its value"));
+            }
+            let nums: Vec<f32> = args.iter().filter_map(|w| number(w)).collect();
+            let want_numbers = matches!(word, "-o" | "-s" | "-bm");
+            if want_numbers && nums.len() != args.len() {
+                return Err(format!("option {word} needs numbers, not '{}'", args.join(" ")));
+            }
+            match word {
+                "-o" => spec.offset = [nums[0], nums.get(1).copied().unwrap_or(0.0)],
+                "-s" => spec.scale = [nums[0], nums.get(1).copied().unwrap_or(1.0)],
+                "-bm" => spec.bump_scale = Some(nums[0]),
+                "-clamp" => spec.clamp = args[0] == "on",
+                _ => spec.ignored_options.push(format!("{word} {}", args.join(" "))),
+            }
+            i += 1 + args.len();
+        }
+        spec.file = words[i.min(words.len())..].join(" ");
+        if spec.file.is_empty() {
+            return Err("no file name".to_owned());
+        }
+        Ok(spec)
+    }
+
+    /// `-o`/`-s` as a texture transform of the mesh's v-down coordinates. MTL applies them in
+    /// its v-up space, t = s·uv + o; with v' = 1 − v the lookup row is 1 − t_v =
+    /// s_v·v' + (1 − s_v − o_v).
+    fn transform(&self) -> Option<glam::Affine2> {
+        let ([ou, ov], [su, sv]) = (self.offset, self.scale);
+        if (ou, ov, su, sv) == (0.0, 0.0, 1.0, 1.0) {
+            return None;
+        }
+        Some(crate::texture::uv_transform(Vec2::new(ou, 1.0 - sv - ov), 0.0, Vec2::new(su, sv)))
+    }
+}
+
+/// An MTL material mapped (see the module docs), with the textures still to be read.
+struct Converted {
+    material: Material,
+    /// Texture statements to resolve: slot, statement name, file and options.
+    maps: Vec<(Slot, &'static str, MapSpec)>,
+    /// Statements not supported, by name.
+    ignored: Vec<String>,
+    /// Other things worth a warning (bad values, malformed statements).
+    notes: Vec<String>,
+}
+
+/// Maps one MTL material (see the module docs).
+fn convert(m: &tobj::Material) -> Converted {
     let default = Material::default();
+    let mut notes = Vec::new();
+    let mut ignored = Vec::new();
     let ks = m.specular.map_or(Vec3::ZERO, Vec3::from);
     let (specular, specular_color, roughness) = if ks.max_element() > 0.0 {
         // Ns < 0 is meaningless; clamping keeps the square roots real.
@@ -231,36 +429,132 @@ fn convert(m: &tobj::Material) -> (Material, Vec<String>) {
     } else {
         (0.0, Vec3::ONE, 1.0)
     };
+    let param = |key: &str| m.unknown_param.get(key).map(String::as_str);
+    let float3 = |key: &str, notes: &mut Vec<String>| -> Option<Vec3> {
+        let text = param(key)?;
+        let v: Vec<f32> = text.split_whitespace().filter_map(|w| w.parse().ok()).collect();
+        match v[..] {
+            [x] => Some(Vec3::splat(x)),
+            [x, y, z] => Some(Vec3::new(x, y, z)),
+            _ => {
+                notes.push(format!("{key} '{text}' is not one or three numbers; ignored"));
+                None
+            }
+        }
+    };
+
+    // Texture statements.
+    let mut maps = Vec::new();
+    let mut map = |slot: Slot, statement: &'static str, value: Option<&str>, notes: &mut Vec<String>| {
+        let value = value?;
+        match MapSpec::parse(value) {
+            Ok(spec) => {
+                maps.push((slot, statement, spec.clone()));
+                Some(spec)
+            }
+            Err(e) => {
+                notes.push(format!("{statement} '{value}': {e}; ignored"));
+                None
+            }
+        }
+    };
+    let base_map = map(Slot::BaseColor, "map_Kd", m.diffuse_texture.as_deref(), &mut notes);
+    let emissive_map = map(Slot::Emissive, "map_Ke", param("map_Ke"), &mut notes);
+    // tobj files `map_Bump` and `bump` as the normal texture and leaves `norm` unparsed.
+    let (bump_name, bump) = match (&m.normal_texture, param("norm")) {
+        (Some(b), _) => ("map_Bump/bump", Some(b.as_str())),
+        (None, n) => ("norm", n),
+    };
+    map(Slot::Normal, bump_name, bump, &mut notes);
+
+    // Alpha: d, else 1 − Tr.
+    let tr = param("Tr").map(|t| t.trim().parse::<f32>().map(|tr| 1.0 - tr).map_err(|_| t));
+    let alpha = match (m.dissolve, tr) {
+        (Some(d), _) => Some(d),
+        (None, Some(Ok(a))) => Some(a),
+        (None, Some(Err(t))) => {
+            notes.push(format!("Tr '{t}' is not a number; ignored"));
+            None
+        }
+        (None, None) => None,
+    };
+    let alpha = match alpha {
+        Some(a) if a.is_finite() && (0.0..=1.0).contains(&a) => a,
+        Some(a) => {
+            notes.push(format!("dissolve (d or 1 − Tr) {a} is outside [0, 1]; clamped"));
+            if a.is_finite() { a.clamp(0.0, 1.0) } else { 1.0 }
+        }
+        None => 1.0,
+    };
+    // map_d: only as the alpha of the map_Kd image (a cut-out).
+    let cut_out = match (&m.dissolve_texture, &base_map) {
+        (Some(d), Some(kd)) if MapSpec::parse(d).is_ok_and(|d| d.file == kd.file) => true,
+        (Some(_), _) => {
+            ignored.push("map_d (only a map_d naming the map_Kd image is used, as its alpha)".to_owned());
+            false
+        }
+        (None, _) => false,
+    };
+    let alpha_mode = if alpha < 1.0 {
+        AlphaMode::Blend
+    } else if cut_out {
+        AlphaMode::Mask { cutoff: 0.5 }
+    } else {
+        AlphaMode::Opaque
+    };
+
+    // Glass.
+    let glass = matches!(m.illumination_model, Some(4 | 6 | 7));
+    let ior = match m.optical_density {
+        Some(ni) if ni.is_finite() && ni >= 1.0 => ni,
+        Some(ni) if glass => {
+            notes.push(format!("Ni {ni} is below 1; glass uses the index of refraction 1.5"));
+            1.5
+        }
+        _ => 1.5,
+    };
+    let base_color = if glass {
+        float3("Tf", &mut notes).unwrap_or(Vec3::ONE)
+    } else {
+        m.diffuse.map_or(default.base_color, Vec3::from)
+    };
+    let emission = match (m.emissive, &emissive_map) {
+        (Some(ke), _) => Vec3::from(ke),
+        (None, Some(_)) => Vec3::ONE,
+        (None, None) => Vec3::ZERO,
+    };
+
+    let known =
+        [("map_Ka", &m.ambient_texture), ("map_Ks", &m.specular_texture), ("map_Ns", &m.shininess_texture)];
+    ignored.extend(known.iter().filter(|(_, t)| t.is_some()).map(|(k, _)| (*k).to_owned()));
+    let mut other: Vec<String> = m
+        .unknown_param
+        .keys()
+        .filter(|k| {
+            (k.starts_with("map_") && k.as_str() != "map_Ke")
+                || matches!(k.as_str(), "disp" | "refl" | "decal")
+        })
+        .cloned()
+        .collect();
+    other.sort(); // HashMap order is random; warnings must be deterministic
+    ignored.extend(other);
+
     let material = Material {
         name: m.name.clone(),
-        base_color: m.diffuse.map_or(default.base_color, Vec3::from),
+        base_color,
         metallic: 0.0,
         roughness,
         specular,
         specular_color,
-        emission: m.emissive.map_or(Vec3::ZERO, Vec3::from),
+        emission,
         emission_two_sided: false,
+        alpha,
+        alpha_mode,
+        transmission: if glass { 1.0 } else { 0.0 },
+        ior,
         ..Material::default()
     };
-    let known = [
-        ("map_Kd", &m.diffuse_texture),
-        ("map_Ka", &m.ambient_texture),
-        ("map_Ks", &m.specular_texture),
-        ("map_Ns", &m.shininess_texture),
-        ("map_d", &m.dissolve_texture),
-        ("norm/bump", &m.normal_texture),
-    ];
-    let mut textures: Vec<String> =
-        known.iter().filter(|(_, t)| t.is_some()).map(|(k, _)| (*k).to_owned()).collect();
-    let mut other: Vec<String> = m
-        .unknown_param
-        .keys()
-        .filter(|k| k.starts_with("map_") || k.as_str() == "disp" || k.as_str() == "refl")
-        .cloned()
-        .collect();
-    other.sort(); // HashMap order is random; warnings must be deterministic
-    textures.extend(other);
-    (material, textures)
+    Converted { material, maps, ignored, notes }
 }
 
 /// The 1-based line where parsing `bytes` first fails: the shortest failing prefix, found by
@@ -325,10 +619,118 @@ mod tests {
             (scene.mesh.uvs[a as usize], scene.mesh.uvs[b as usize]),
             (Vec2::new(0.0, 1.0), Vec2::new(1.0, 1.0))
         );
+        // The two texture files do not exist: a warning each, naming it; the slots stay empty.
+        assert!(shiny.textures.is_empty() && scene.textures.is_empty());
         let warnings = scene.warnings.join("\n");
         assert!(warnings.contains("quad.obj") && warnings.contains("'shiny'"), "{warnings}");
-        assert!(warnings.contains("textures not supported yet; ignoring map_Kd, norm/bump"), "{warnings}");
-        assert_eq!(scene.warnings.len(), 1, "{warnings}");
+        assert!(
+            warnings.contains("map_Kd 'wood.png': cannot read") && warnings.contains("wood.png"),
+            "{warnings}"
+        );
+        assert!(warnings.contains("map_Bump/bump 'b.png': cannot read"), "{warnings}");
+        assert_eq!(scene.warnings.len(), 2, "{warnings}");
+    }
+
+    /// Texture maps with options, emissive maps without Ke, normal maps, dissolve, glass.
+    #[test]
+    fn scene_obj_textures_alpha_and_glass() {
+        use crate::material::AlphaMode;
+        use crate::texture::{TextureRef, Wrap};
+        use image::{DynamicImage, ImageBuffer, Luma, Rgb, Rgba};
+        let dir = TempDir::new("obj-textures");
+        std::fs::create_dir(dir.0.join("maps")).unwrap();
+        let save = |name: &str, image: DynamicImage| image.save(dir.0.join(name)).unwrap();
+        save(
+            "maps/leaf.png",
+            DynamicImage::ImageRgba8(ImageBuffer::from_pixel(2, 2, Rgba([128u8, 255, 0, 0]))),
+        );
+        save("maps/glow.png", DynamicImage::ImageRgb8(ImageBuffer::from_pixel(1, 1, Rgb([128u8, 128, 128]))));
+        save("maps/n.png", DynamicImage::ImageRgb8(ImageBuffer::from_pixel(1, 1, Rgb([128u8, 128, 255]))));
+        save("maps/height.png", DynamicImage::ImageLuma8(ImageBuffer::from_pixel(1, 1, Luma([128u8]))));
+        dir.write("maps/junk.png", b"junk");
+        let mtl = "newmtl leaf\nKd 1 1 1\nmap_Kd -o 0.5 0.25 -s 2 2 -clamp on maps/leaf.png\nmap_d maps/leaf.png\n\
+                   norm -bm 0.5 -texres 64 maps/n.png\n\
+                   newmtl glow\nmap_Ke maps/glow.png\nd 0.5\n\
+                   newmtl tr\nTr 0.25\nbump maps/height.png\nmap_Ka maps/leaf.png\n\
+                   newmtl glass\nKd 0 0 0\nillum 7\nNi 1.33\nTf 0.9 1 0.9\n\
+                   newmtl junk\nmap_Kd maps/junk.png\nmap_d other.png\nillum 4\nNi 0\n";
+        dir.write("m.mtl", mtl);
+        let mut obj = String::from("mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n");
+        for name in ["leaf", "glow", "tr", "glass", "junk"] {
+            obj += &format!("usemtl {name}\nf 1/1 2/2 3/3\n");
+        }
+        let scene = Scene::load(&dir.write("t.obj", obj)).unwrap();
+        let m = |name: &str| scene.materials.iter().find(|m| m.name == name).unwrap();
+
+        // leaf: sRGB base colour with -o/-s as a transform of the v-down coordinates, clamped;
+        // map_d is the map_Kd image, so its alpha cuts out; the normal map with -bm's scale.
+        let leaf = m("leaf");
+        let base = leaf.textures.base_color.unwrap();
+        let transform = crate::texture::uv_transform(Vec2::new(0.5, 1.0 - 2.0 - 0.25), 0.0, Vec2::splat(2.0));
+        assert_eq!(
+            base,
+            TextureRef {
+                transform: Some(transform),
+                wrap: [Wrap::ClampToEdge; 2],
+                ..TextureRef::new(base.texture)
+            }
+        );
+        // An OBJ coordinate (u, v) = (0.1, 0.2) is stored as (0.1, 0.8); MTL reads the image at
+        // t = 2·(0.1, 0.2) + (0.5, 0.25) = (0.7, 0.65) from the bottom, i.e. row 0.35 from the top.
+        let st = transform.transform_point2(Vec2::new(0.1, 0.8));
+        assert!((st - Vec2::new(0.7, 0.35)).length() < 1e-6, "{st}");
+        let t = &scene.textures[base.texture as usize];
+        assert!((t.texels[0].x - 0.215_860_5).abs() < 1e-6 && t.texels[0].w == 0.0, "{}", t.texels[0]);
+        assert_eq!(leaf.alpha_mode, AlphaMode::Mask { cutoff: 0.5 });
+        let (normal, scale) = leaf.textures.normal.unwrap();
+        assert_eq!(scale, 0.5);
+        assert!((scene.textures[normal.texture as usize].texels[0].x - 128.0 / 255.0).abs() < 1e-6, "linear");
+
+        // glow: Ke 1 under map_Ke; d 0.5 blends.
+        let glow = m("glow");
+        assert_eq!((glow.emission, glow.alpha, glow.alpha_mode), (Vec3::ONE, 0.5, AlphaMode::Blend));
+        assert!(glow.textures.emissive.is_some());
+        // tr: Tr 0.25 is d 0.75; the greyscale bump map is a height map, refused.
+        let tr = m("tr");
+        assert_eq!((tr.alpha, tr.alpha_mode, tr.textures.normal), (0.75, AlphaMode::Blend, None));
+        // glass: transmission 1, ior Ni, tinted by Tf (not Kd).
+        let glass = m("glass");
+        assert_eq!((glass.transmission, glass.ior, glass.base_color), (1.0, 1.33, Vec3::new(0.9, 1.0, 0.9)));
+        // junk: the undecodable map is left out (and with it the cut-out); Ni 0 is no glass ior.
+        let junk = m("junk");
+        assert_eq!((junk.textures.base_color, junk.alpha_mode, junk.ior), (None, AlphaMode::Opaque, 1.5));
+
+        let warnings = scene.warnings.join("\n");
+        for needle in [
+            "material 'leaf'",
+            "options ignored: -texres 64",
+            "material 'tr'",
+            "height.png is greyscale, a height map",
+            "not supported, ignored: map_Ka",
+            "map_Kd 'maps/junk.png'",
+            "not a PNG, JPEG or TIFF",
+            "map_d (only a map_d naming the map_Kd image is used, as its alpha)",
+            "Ni 0 is below 1",
+        ] {
+            assert!(warnings.contains(needle), "no '{needle}' in\n{warnings}");
+        }
+        assert!(scene.warnings.iter().all(|w| w.contains("t.obj")), "{warnings}");
+        assert_eq!(scene.warnings.len(), 6, "{warnings}");
+    }
+
+    #[test]
+    fn scene_obj_map_options() {
+        use super::MapSpec;
+        let s = MapSpec::parse("-s 2 3 -o 0.5 -bm 0.25 -blendu off my file.png").unwrap();
+        assert_eq!((s.scale, s.offset, s.bump_scale), ([2.0, 3.0], [0.5, 0.0], Some(0.25)));
+        assert_eq!(
+            (s.file.as_str(), s.ignored_options.clone()),
+            ("my file.png", vec!["-blendu off".to_owned()])
+        );
+        assert!(MapSpec::parse("-bm").unwrap_err().contains("-bm lacks its value"));
+        assert!(MapSpec::parse("-o x.png").unwrap_err().contains("-o lacks its value"));
+        assert!(MapSpec::parse("-bm 0.5").unwrap_err().contains("no file name"));
+        assert_eq!(MapSpec::parse("plain.png").unwrap().transform(), None);
     }
 
     #[test]

@@ -3,7 +3,7 @@
 //! read, and its offset arithmetic can overflow on hostile counts: here every such case is a
 //! message naming the accessor.
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 use gltf::accessor::sparse::IndexType;
 use gltf::accessor::{Accessor, DataType, Dimensions};
 
@@ -19,10 +19,20 @@ pub(super) fn read_vec3(acc: &Accessor, buffers: &[Vec<u8>], semantic: &str) -> 
     Ok(values.chunks_exact(3).map(|c| Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32)).collect())
 }
 
+/// Reads a `TANGENT` accessor: `VEC4` of floats (xyz, w = bitangent sign).
+pub(super) fn read_vec4(acc: &Accessor, buffers: &[Vec<u8>], semantic: &str) -> Result<Vec<Vec4>, String> {
+    expect(acc, semantic, Dimensions::Vec4, &[(DataType::F32, false)])?;
+    let values = read(acc, buffers)?;
+    Ok(values
+        .chunks_exact(4)
+        .map(|c| Vec4::new(c[0] as f32, c[1] as f32, c[2] as f32, c[3] as f32))
+        .collect())
+}
+
 /// Reads a `TEXCOORD_n` accessor: `VEC2` of floats or normalised unsigned bytes/shorts.
-pub(super) fn read_uv(acc: &Accessor, buffers: &[Vec<u8>]) -> Result<Vec<Vec2>, String> {
+pub(super) fn read_uv(acc: &Accessor, buffers: &[Vec<u8>], semantic: &str) -> Result<Vec<Vec2>, String> {
     let allowed = [(DataType::F32, false), (DataType::U8, true), (DataType::U16, true)];
-    expect(acc, "TEXCOORD_0", Dimensions::Vec2, &allowed)?;
+    expect(acc, semantic, Dimensions::Vec2, &allowed)?;
     let values = read(acc, buffers)?;
     Ok(values.chunks_exact(2).map(|c| Vec2::new(c[0] as f32, c[1] as f32)).collect())
 }

@@ -83,9 +83,9 @@ pub(super) fn load(doc: &gltf::Document, base: &Path, bin: Option<&[u8]>) -> Res
     Ok(buffers)
 }
 
-/// Reads a buffer URI: a `data:` URI or a path relative to `base`. Returns the bytes and a
+/// Reads a buffer or image URI: a `data:` URI or a (%-encoded) path relative to `base`. Returns the bytes and a
 /// description of where they came from, for messages.
-fn read_uri(uri: &str, base: &Path) -> Result<(Vec<u8>, String), String> {
+pub(super) fn read_uri(uri: &str, base: &Path) -> Result<(Vec<u8>, String), String> {
     if let Some(rest) = uri.strip_prefix("data:") {
         let (header, payload) = rest.split_once(',').ok_or("the data URI has no ',' before its payload")?;
         let data =

@@ -1,9 +1,20 @@
-//! glTF materials to [`Material`]: the metallic-roughness factors, `KHR_materials_specular` and
-//! `KHR_materials_emissive_strength`. Texture slots are reported, not yet used.
+//! glTF materials to [`Material`]: the metallic-roughness factors and textures (base colour,
+//! metallic-roughness, emissive, normal with its `scale`), `alphaMode`/`alphaCutoff`,
+//! `KHR_texture_transform` on every texture reference, `KHR_materials_emissive_strength`,
+//! `KHR_materials_specular` (factors), `KHR_materials_transmission` (factor) and
+//! `KHR_materials_ior`.
+//!
+//! - Occlusion textures are ignored without a word: a path tracer computes occlusion itself.
+//! - `KHR_materials_specular` and `KHR_materials_transmission` textures are warned about and
+//!   ignored (their factors apply).
+//! - `KHR_materials_ior` also sets the dielectric F0 of the opaque lobes, as the extension
+//!   defines it: F0 = ((ior − 1)/(ior + 1))² × specular colour. The material model's F0 is
+//!   0.04 × `specular_color`, so the colour is scaled by F0(ior) / 0.04 (1 at the default 1.5).
 
-use crate::material::Material;
+use super::images::{ColorSpace, TextureLoader, UvTransform};
+use crate::material::{AlphaMode, Material, MaterialTextures};
 use glam::Vec3;
-use std::path::Path;
+use serde_json::Value;
 
 /// The material glTF prescribes for primitives without one (spec §3.9.2): white, fully metallic,
 /// fully rough. (`Material::default()` is a grey diffuse for other formats' missing materials.)
@@ -21,55 +32,193 @@ pub(super) fn gltf_default() -> Material {
     }
 }
 
-/// Converts one material, pushing a warning naming the texture slots it uses (ignored for now).
-pub(super) fn convert(m: &gltf::Material, path: &Path, warnings: &mut Vec<String>) -> Material {
-    let pbr = m.pbr_metallic_roughness();
-    let [r, g, b, _alpha] = pbr.base_color_factor();
-    let specular = m.specular();
-    let name = match (m.name(), m.index()) {
+/// The material's name for messages (its own, else "material<i>").
+pub(super) fn name_of(m: &gltf::Material) -> String {
+    match (m.name(), m.index()) {
         (Some(n), _) if !n.is_empty() => n.to_owned(),
         (_, Some(i)) => format!("material{i}"),
         (_, None) => "glTF default".to_owned(),
+    }
+}
+
+fn transform_of(info: &gltf::texture::Info) -> Option<UvTransform> {
+    info.texture_transform().map(|t| UvTransform {
+        offset: t.offset(),
+        rotation: t.rotation(),
+        scale: t.scale(),
+        tex_coord: t.tex_coord(),
+    })
+}
+
+/// `KHR_texture_transform` read from a texture reference's raw JSON (the gltf crate drops the
+/// extensions of `normalTexture`). `Err` names what is malformed.
+fn raw_transform(reference: Option<&Value>) -> Result<Option<UvTransform>, String> {
+    let Some(t) = reference.and_then(|r| r.get("extensions")).and_then(|e| e.get("KHR_texture_transform"))
+    else {
+        return Ok(None);
     };
+    let pair = |key: &str, default: [f32; 2]| -> Result<[f32; 2], String> {
+        match t.get(key) {
+            None => Ok(default),
+            Some(v) => match v.as_array().map(|a| a.iter().map(Value::as_f64).collect::<Vec<_>>()) {
+                Some(a) if a.len() == 2 && a.iter().all(Option::is_some) => {
+                    Ok([a[0].unwrap_or(0.0) as f32, a[1].unwrap_or(0.0) as f32])
+                }
+                _ => Err(format!("'{key}' must be an array of two numbers, not {v}")),
+            },
+        }
+    };
+    let rotation = match t.get("rotation") {
+        None => 0.0,
+        Some(v) => v.as_f64().ok_or_else(|| format!("'rotation' must be a number, not {v}"))? as f32,
+    };
+    let tex_coord = match t.get("texCoord") {
+        None => None,
+        Some(v) => Some(
+            v.as_u64()
+                .and_then(|n| u32::try_from(n).ok())
+                .ok_or_else(|| format!("'texCoord' must be a non-negative integer, not {v}"))?,
+        ),
+    };
+    Ok(Some(UvTransform {
+        offset: pair("offset", [0.0; 2])?,
+        rotation,
+        scale: pair("scale", [1.0; 2])?,
+        tex_coord,
+    }))
+}
 
-    let slots = [
-        ("base colour", pbr.base_color_texture().is_some()),
-        ("metallic-roughness", pbr.metallic_roughness_texture().is_some()),
-        ("normal", m.normal_texture().is_some()),
-        ("occlusion", m.occlusion_texture().is_some()),
-        ("emissive", m.emissive_texture().is_some()),
-        ("specular", specular.as_ref().is_some_and(|s| s.specular_texture().is_some())),
-        ("specular colour", specular.as_ref().is_some_and(|s| s.specular_color_texture().is_some())),
-    ];
-    let used: Vec<&str> = slots.iter().filter(|(_, used)| *used).map(|(slot, _)| *slot).collect();
-    if !used.is_empty() {
-        warnings.push(format!(
-            "{}: material '{name}': textures are not supported yet; ignoring the {} texture{}",
-            path.display(),
-            used.join(", "),
-            if used.len() == 1 { "" } else { "s" }
+/// Converts one material. `raw` is the material's JSON object (for what the gltf crate does not
+/// parse). Textures are decoded through `textures`, which also collects the warnings. `Err` is a
+/// message naming the material (the caller adds the file).
+pub(super) fn convert(
+    m: &gltf::Material,
+    raw: Option<&Value>,
+    textures: &mut TextureLoader,
+) -> Result<Material, String> {
+    let pbr = m.pbr_metallic_roughness();
+    let [r, g, b, alpha] = pbr.base_color_factor();
+    let specular = m.specular();
+    let name = name_of(m);
+    let label = format!("material '{name}'");
+
+    let mut slots = MaterialTextures::default();
+    if let Some(info) = pbr.base_color_texture() {
+        let user = format!("{label}, base colour texture");
+        slots.base_color = textures.reference(
+            &info.texture(),
+            info.tex_coord(),
+            transform_of(&info),
+            ColorSpace::Srgb,
+            &user,
+        );
+    }
+    if let Some(info) = pbr.metallic_roughness_texture() {
+        let user = format!("{label}, metallic-roughness texture");
+        slots.metallic_roughness = textures.reference(
+            &info.texture(),
+            info.tex_coord(),
+            transform_of(&info),
+            ColorSpace::Linear,
+            &user,
+        );
+    }
+    if let Some(info) = m.emissive_texture() {
+        let user = format!("{label}, emissive texture");
+        slots.emissive = textures.reference(
+            &info.texture(),
+            info.tex_coord(),
+            transform_of(&info),
+            ColorSpace::Srgb,
+            &user,
+        );
+    }
+    if let Some(normal) = m.normal_texture() {
+        let user = format!("{label}, normal texture");
+        let transform = match raw_transform(raw.and_then(|r| r.get("normalTexture"))) {
+            Ok(t) => t,
+            Err(e) => {
+                textures.warn(format!("{user}: malformed KHR_texture_transform ({e}); ignored"));
+                None
+            }
+        };
+        let scale = normal.scale();
+        let scale = if scale.is_finite() {
+            scale
+        } else {
+            textures.warn(format!("{user}: scale {scale} is not finite; 1 is used"));
+            1.0
+        };
+        slots.normal = textures
+            .reference(&normal.texture(), normal.tex_coord(), transform, ColorSpace::Linear, &user)
+            .map(|r| (r, scale));
+    }
+    // Occlusion: ignored on purpose (path tracing computes it).
+
+    let mut unused: Vec<&str> = Vec::new();
+    if specular.as_ref().is_some_and(|s| s.specular_texture().is_some()) {
+        unused.push("KHR_materials_specular specularTexture");
+    }
+    if specular.as_ref().is_some_and(|s| s.specular_color_texture().is_some()) {
+        unused.push("KHR_materials_specular specularColorTexture");
+    }
+    let transmission = m.transmission();
+    if transmission.as_ref().is_some_and(|t| t.transmission_texture().is_some()) {
+        unused.push("KHR_materials_transmission transmissionTexture");
+    }
+    if !unused.is_empty() {
+        textures.warn(format!(
+            "{label}: textures of these extensions are not supported (their factors apply): {}",
+            unused.join(", ")
         ));
     }
-    if m.alpha_mode() != gltf::material::AlphaMode::Opaque {
-        warnings.push(format!(
-            "{}: material '{name}': alpha mode {:?} is not supported; rendered opaque",
-            path.display(),
-            m.alpha_mode()
-        ));
+
+    let alpha_mode = match m.alpha_mode() {
+        gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
+        gltf::material::AlphaMode::Blend => AlphaMode::Blend,
+        gltf::material::AlphaMode::Mask => {
+            let cutoff = m.alpha_cutoff().unwrap_or(0.5);
+            if !(cutoff.is_finite() && cutoff >= 0.0) {
+                return Err(format!("{label}: alphaCutoff {cutoff} is out of range (it must be ≥ 0)"));
+            }
+            if cutoff > 1.0 {
+                textures.warn(format!(
+                    "{label}: alphaCutoff {cutoff} is above 1, so no alpha passes it: the surface is invisible"
+                ));
+            }
+            AlphaMode::Mask { cutoff }
+        }
+    };
+    if !(0.0..=1.0).contains(&alpha) {
+        return Err(format!("{label}: baseColorFactor alpha {alpha} is outside [0, 1]"));
     }
 
-    Material {
+    let mut ior = m.ior().unwrap_or(1.5);
+    if !(ior.is_finite() && ior >= 1.0) {
+        textures.warn(format!("{label}: KHR_materials_ior ior {ior} is below 1; the default 1.5 is used"));
+        ior = 1.5;
+    }
+    // Exactly 1 at the default, so files without the extension keep their factors bit for bit.
+    let f0_scale = if ior == 1.5 { 1.0 } else { ((ior - 1.0) / (ior + 1.0)).powi(2) / 0.04 };
+    let transmission = transmission.map_or(0.0, |t| t.transmission_factor());
+
+    Ok(Material {
         base_color: Vec3::new(r, g, b),
         metallic: pbr.metallic_factor(),
         roughness: pbr.roughness_factor(),
         // Without the extension glTF's dielectric layer is the plain F0 = 0.04 one.
         specular: specular.as_ref().map_or(1.0, |s| s.specular_factor()),
-        specular_color: specular.as_ref().map_or(Vec3::ONE, |s| Vec3::from(s.specular_color_factor())),
+        specular_color: specular.as_ref().map_or(Vec3::ONE, |s| Vec3::from(s.specular_color_factor()))
+            * f0_scale,
         emission: Vec3::from(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0),
         // A one-sided emitter must stay one-sided (NOTES.md: a two-sided Cornell light is too
         // bright), so emission follows `doubleSided`.
         emission_two_sided: m.double_sided(),
+        alpha,
+        alpha_mode,
+        transmission,
+        ior,
+        textures: slots,
         name,
-        ..Material::default()
-    }
+    })
 }

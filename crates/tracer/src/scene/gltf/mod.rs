@@ -1,26 +1,48 @@
 //! glTF 2.0 loader (.gltf with external or data-URI buffers, and .glb): the default scene's node
 //! hierarchy flattened into world space, perspective and orthographic cameras, metallic-roughness
-//! materials with `KHR_materials_emissive_strength` and `KHR_materials_specular`, and
-//! `KHR_lights_punctual` point lights. Images are never decoded here (textures are a later
-//! milestone: materials that use them get a warning). Every malformed input is a
-//! [`TracerError`] naming the file, never a panic.
+//! materials with their textures (`images`), alpha modes, `KHR_texture_transform`,
+//! `KHR_materials_emissive_strength`, `KHR_materials_specular`, `KHR_materials_transmission`,
+//! `KHR_materials_ior` (`material`), and `KHR_lights_punctual` point, spot and directional lights.
+//! Every malformed input is a [`TracerError`] naming the file, never a panic; an image that cannot
+//! be used is a warning (the material slot is left empty).
+//!
+//! Light units (NOTES.md, "glTF as Blender writes it"): point and spot intensities are candela,
+//! converted to radiant intensity as W/sr = cd / 683; a directional light's lux become irradiance
+//! as W/m² = lux / 683, the same photometric conversion (an ideal 555 nm source). Blender's
+//! exporter (default lighting mode) writes exactly the inverse: W/(4π) × 683 cd for point and
+//! spot lights of W watts, S × 683 lux for a sun of S W/m² (its `lights.py`,
+//! `__gather_intensity`), so these reproduce the Blender scene. `range` is ignored: lights fall
+//! off by the inverse square law, as physically based renderers do.
+//!
+//! Spot cones: a file written by Blender (its `asset.generator` names Blender) is lit with Cycles'
+//! smoothstep falloff, which it was authored with; any other file with the glTF specification's
+//! recommended falloff ([`SpotFalloff`](super::SpotFalloff)).
 
 mod accessor;
 mod buffers;
+pub(super) mod images;
 mod material;
 #[cfg(test)]
 pub(super) mod tests;
+#[cfg(test)]
+mod texture_tests;
 
-use super::{MeshPart, Scene};
+use super::{MeshExtras, MeshPart, PunctualLight, Scene, SpotFalloff};
 use crate::camera::{CameraDesc, Projection};
 use crate::error::{Result, TracerError};
-use glam::{Affine3A, Mat3, Mat4, Quat, Vec3};
+use glam::{Affine3A, Mat3, Mat4, Quat, Vec3, Vec4};
 use gltf::mesh::{Mode, Semantic};
 use std::path::Path;
 
 /// Extensions this loader understands; a file requiring any other is refused.
-const HANDLED_EXTENSIONS: &[&str] =
-    &["KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_specular"];
+const HANDLED_EXTENSIONS: &[&str] = &[
+    "KHR_lights_punctual",
+    "KHR_materials_emissive_strength",
+    "KHR_materials_specular",
+    "KHR_materials_transmission",
+    "KHR_materials_ior",
+    "KHR_texture_transform",
+];
 
 /// Loads a `.gltf` or `.glb` file (told apart by the GLB magic, not the name).
 pub(super) fn load(path: &Path) -> Result<Scene> {
@@ -37,6 +59,9 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
     let end = json.iter().rposition(|&b| b != 0 && !b.is_ascii_whitespace()).map_or(0, |i| i + 1);
     let mut root: gltf::json::Root = gltf::json::deserialize::from_slice(&json[..end])
         .map_err(|e| err(format!("malformed glTF JSON: {e}")))?;
+    // The same JSON untyped, for what the gltf crate drops (a normalTexture's extensions).
+    let raw: serde_json::Value =
+        serde_json::from_slice(&json[..end]).map_err(|e| err(format!("malformed glTF JSON: {e}")))?;
     if !root.asset.version.starts_with("2.") {
         return Err(err(format!("glTF version {} is not supported (only 2.x)", root.asset.version)));
     }
@@ -59,8 +84,19 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
     for ext in doc.extensions_used().filter(|e| !HANDLED_EXTENSIONS.contains(e)) {
         scene.warnings.push(format!("{}: extension {ext} is not supported; ignored", path.display()));
     }
-    scene.materials = doc.materials().map(|m| material::convert(&m, path, &mut scene.warnings)).collect();
-    let mut loader = Loader { path, buffers: &buffers, scene, default_material: None };
+    let mut textures = images::TextureLoader::new(&doc, &buffers, base, path);
+    let raw_materials = raw.get("materials").and_then(serde_json::Value::as_array);
+    for m in doc.materials() {
+        let raw_material = m.index().and_then(|i| raw_materials.and_then(|a| a.get(i)));
+        let converted = material::convert(&m, raw_material, &mut textures).map_err(err)?;
+        scene.materials.push(converted);
+    }
+    scene.warnings.append(&mut textures.warnings);
+    scene.textures = textures.textures;
+    // Blender-exported spot lights keep the falloff Cycles rendered them with (module docs).
+    let generator = doc.as_json().asset.generator.as_deref().unwrap_or("");
+    let spot_falloff = if generator.contains("Blender") { SpotFalloff::Blender } else { SpotFalloff::Gltf };
+    let mut loader = Loader { path, buffers: &buffers, scene, default_material: None, spot_falloff };
     loader.traverse(&doc)?;
     Ok(loader.scene)
 }
@@ -72,6 +108,8 @@ struct Loader<'a> {
     scene: Scene,
     /// Index of glTF's default material once a primitive without a material needed it.
     default_material: Option<u32>,
+    /// How spot lights fade (by the file's generator).
+    spot_falloff: SpotFalloff,
 }
 
 impl Loader<'_> {
@@ -126,7 +164,7 @@ impl Loader<'_> {
                 self.camera(doc, &node, &camera, world)?;
             }
             if let Some(light) = node.light() {
-                self.light(&light, &world);
+                self.light(&light, &world)?;
             }
             let children: Vec<_> = node.children().collect();
             stack.extend(children.into_iter().rev().map(|c| (c, world)));
@@ -167,7 +205,15 @@ impl Loader<'_> {
                 None => None,
             };
             let uvs = match prim.get(&Semantic::TexCoords(0)) {
-                Some(a) => Some(accessor::read_uv(&a, self.buffers).map_err(fail)?),
+                Some(a) => Some(accessor::read_uv(&a, self.buffers, "TEXCOORD_0").map_err(fail)?),
+                None => None,
+            };
+            let uvs1 = match prim.get(&Semantic::TexCoords(1)) {
+                Some(a) => Some(accessor::read_uv(&a, self.buffers, "TEXCOORD_1").map_err(fail)?),
+                None => None,
+            };
+            let tangents = match prim.get(&Semantic::Tangents) {
+                Some(a) => Some(accessor::read_vec4(&a, self.buffers, "TANGENT").map_err(fail)?),
                 None => None,
             };
             let mut indices = match prim.indices() {
@@ -190,10 +236,23 @@ impl Loader<'_> {
             positions.iter_mut().for_each(|p| *p = world.transform_point3(*p));
             let normals = normals
                 .map(|ns| ns.into_iter().map(|n| (cofactor * n).normalize_or_zero()).collect::<Vec<_>>());
+            // Tangents are directions on the surface: they transform like positions' differences.
+            // A mirroring transform flips the handedness of the tangent frame, so w flips too.
+            let handedness = if det < 0.0 { -1.0 } else { 1.0 };
+            let tangents = tangents.map(|ts| {
+                ts.into_iter()
+                    .map(|t| {
+                        let xyz = (m * t.truncate()).normalize_or_zero();
+                        let w = if t.w < 0.0 { -handedness } else { handedness };
+                        if xyz == Vec3::ZERO { Vec4::ZERO } else { xyz.extend(w) }
+                    })
+                    .collect::<Vec<_>>()
+            });
             let material = match prim.material().index() {
                 Some(i) => i as u32,
                 None => self.default_material(),
             };
+            self.check_texture_coordinates(&what, material, [uvs.is_some(), uvs1.is_some()]);
             let part = MeshPart {
                 positions: &positions,
                 normals: normals.as_deref(),
@@ -201,9 +260,30 @@ impl Loader<'_> {
                 indices: Some(&indices),
                 material,
             };
-            self.scene.mesh.push(part).map_err(fail)?;
+            let extras = MeshExtras { uvs1: uvs1.as_deref(), tangents: tangents.as_deref() };
+            self.scene.mesh.push_with(part, extras).map_err(fail)?;
         }
         Ok(())
+    }
+
+    /// Warns when `material`'s textures read a coordinate set the primitive lacks (the tracer
+    /// then reads set 0 instead of set 1, and without set 0 a single texel).
+    fn check_texture_coordinates(&mut self, what: &str, material: u32, has: [bool; 2]) {
+        let Some(m) = self.scene.materials.get(material as usize) else { return };
+        let t = &m.textures;
+        let refs = [t.base_color, t.metallic_roughness, t.emissive, t.normal.map(|n| n.0)];
+        let used = |set: u32| refs.iter().flatten().any(|r| r.uv_set == set);
+        let name = m.name.clone();
+        if (used(0) || (used(1) && !has[1])) && !has[0] {
+            self.warn(format!(
+                "{what}: material '{name}' has textures but the primitive has no texture coordinates; \
+                 they read a single texel"
+            ));
+        } else if used(1) && !has[1] {
+            self.warn(format!(
+                "{what}: material '{name}' reads TEXCOORD_1, which the primitive lacks; TEXCOORD_0 is used"
+            ));
+        }
     }
 
     /// glTF's default material (spec §3.9.2), added to the scene the first time it is needed.
@@ -250,22 +330,56 @@ impl Loader<'_> {
         Ok(())
     }
 
-    fn light(&mut self, light: &gltf::khr_lights_punctual::Light, world: &Affine3A) {
+    fn light(&mut self, light: &gltf::khr_lights_punctual::Light, world: &Affine3A) -> Result<()> {
         use gltf::khr_lights_punctual::Kind;
         let label = format!("light {} ('{}')", light.index(), light.name().unwrap_or(""));
-        match light.kind() {
-            Kind::Point => {
-                // glTF gives candela; Blender's exporter writes W/(4π) × 683 (NOTES.md), so
-                // radiant intensity in W/sr = candela / 683 reproduces the Blender scene.
-                let intensity = Vec3::from(light.color()) * (light.intensity() / 683.0);
-                let position = Vec3::from(world.translation);
-                self.scene.lights.push(super::PunctualLight::Point { position, intensity });
-            }
-            Kind::Spot { .. } => self.warn(format!("{label}: spot lights are not supported yet; skipped")),
-            Kind::Directional => {
-                self.warn(format!("{label}: directional lights are not supported yet; skipped"))
-            }
+        let color = Vec3::from(light.color());
+        let intensity = light.intensity();
+        if !(intensity.is_finite() && intensity >= 0.0 && color.is_finite() && color.min_element() >= 0.0) {
+            return Err(self.error(format!(
+                "{label}: intensity {intensity} and color {color} must be finite and non-negative"
+            )));
         }
+        // Units: module docs. `range` is ignored on purpose (inverse-square falloff).
+        let radiant = color * (intensity / 683.0);
+        let position = Vec3::from(world.translation);
+        // Spot and directional lights shine along their node's local −Z.
+        let direction = || -> Result<Vec3> {
+            let d = world.transform_vector3(Vec3::NEG_Z);
+            let n = d.normalize_or_zero();
+            if n == Vec3::ZERO || !n.is_finite() {
+                return Err(self.error(format!(
+                    "{label}: its node's transform is singular, so the light has no direction"
+                )));
+            }
+            Ok(n)
+        };
+        let light = match light.kind() {
+            Kind::Point => PunctualLight::Point { position, intensity: radiant },
+            Kind::Spot { inner_cone_angle, outer_cone_angle } => {
+                let (inner, outer) = (inner_cone_angle, outer_cone_angle);
+                let half_pi = std::f32::consts::FRAC_PI_2;
+                if !(outer.is_finite() && outer > 0.0 && outer <= half_pi) {
+                    return Err(self.error(format!("{label}: outerConeAngle {outer} must be in (0, π/2]")));
+                }
+                if !(inner.is_finite() && inner >= 0.0 && inner <= outer) {
+                    return Err(self.error(format!(
+                        "{label}: innerConeAngle {inner} must be in [0, outerConeAngle = {outer}]"
+                    )));
+                }
+                PunctualLight::Spot {
+                    position,
+                    direction: direction()?,
+                    intensity: radiant,
+                    inner_cone: inner,
+                    outer_cone: outer,
+                    falloff: self.spot_falloff,
+                }
+            }
+            Kind::Directional => PunctualLight::Directional { direction: direction()?, irradiance: radiant },
+        };
+        self.scene.lights.push(light);
+        Ok(())
     }
 }
 

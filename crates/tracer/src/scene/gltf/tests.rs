@@ -43,7 +43,7 @@ impl Drop for TempDir {
     }
 }
 
-fn base64(bytes: &[u8]) -> String {
+pub(super) fn base64(bytes: &[u8]) -> String {
     const ABC: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     let mut out = String::new();
     for chunk in bytes.chunks(3) {
@@ -62,14 +62,14 @@ fn base64(bytes: &[u8]) -> String {
 
 /// Builds small glTF files: accessors packed into one data-URI buffer.
 #[derive(Default)]
-struct Builder {
-    bin: Vec<u8>,
-    views: Vec<Value>,
-    accessors: Vec<Value>,
+pub(super) struct Builder {
+    pub(super) bin: Vec<u8>,
+    pub(super) views: Vec<Value>,
+    pub(super) accessors: Vec<Value>,
 }
 
 impl Builder {
-    fn add(&mut self, bytes: Vec<u8>, component: u32, ty: &str, count: usize) -> usize {
+    pub(super) fn add(&mut self, bytes: Vec<u8>, component: u32, ty: &str, count: usize) -> usize {
         self.bin.resize(self.bin.len().next_multiple_of(4), 0);
         self.views.push(json!({"buffer": 0, "byteOffset": self.bin.len(), "byteLength": bytes.len()}));
         self.bin.extend(bytes);
@@ -79,17 +79,17 @@ impl Builder {
         self.accessors.len() - 1
     }
 
-    fn vec3(&mut self, v: &[[f32; 3]]) -> usize {
+    pub(super) fn vec3(&mut self, v: &[[f32; 3]]) -> usize {
         let bytes = v.iter().flatten().flat_map(|f| f.to_le_bytes()).collect();
         self.add(bytes, 5126, "VEC3", v.len())
     }
 
-    fn indices(&mut self, v: &[u16]) -> usize {
+    pub(super) fn indices(&mut self, v: &[u16]) -> usize {
         self.add(v.iter().flat_map(|i| i.to_le_bytes()).collect(), 5123, "SCALAR", v.len())
     }
 
     /// `doc` completed with the asset, buffer, views and accessors.
-    fn finish(self, mut doc: Value) -> Value {
+    pub(super) fn finish(self, mut doc: Value) -> Value {
         doc["asset"] = json!({"version": "2.0"});
         let uri = format!("data:application/octet-stream;base64,{}", base64(&self.bin));
         doc["buffers"] = json!([{"byteLength": self.bin.len(), "uri": uri}]);
@@ -99,9 +99,9 @@ impl Builder {
     }
 }
 
-const TRIANGLE: [[f32; 3]; 3] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+pub(super) const TRIANGLE: [[f32; 3]; 3] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
 
-fn load_json(dir: &TempDir, name: &str, doc: &Value) -> Result<Scene, TracerError> {
+pub(super) fn load_json(dir: &TempDir, name: &str, doc: &Value) -> Result<Scene, TracerError> {
     Scene::load(&dir.write(name, serde_json::to_vec(doc).unwrap()))
 }
 
@@ -191,20 +191,12 @@ fn scene_cornell_obj_and_gltf_agree() {
     }
 }
 
-#[test]
-fn scene_glb_and_data_uri_load_identically() {
-    let src = cornell_dir();
-    let reference = Scene::load(&src.join("cornell.gltf")).unwrap();
-    let bin = std::fs::read(src.join("cornell.bin")).unwrap();
-    let doc: Value = serde_json::from_slice(&std::fs::read(src.join("cornell.gltf")).unwrap()).unwrap();
-    let dir = TempDir::new("containers");
-
-    // GLB: the buffer without a URI is the BIN chunk; chunks padded to 4 bytes (JSON with spaces).
-    let mut glb_doc = doc.clone();
-    glb_doc["buffers"][0].as_object_mut().unwrap().remove("uri");
-    let mut json_chunk = serde_json::to_vec(&glb_doc).unwrap();
+/// A GLB container of `doc` and the binary chunk `bin`, chunks padded to 4 bytes (JSON with
+/// spaces).
+pub(super) fn glb(doc: &Value, bin: &[u8]) -> Vec<u8> {
+    let mut json_chunk = serde_json::to_vec(doc).unwrap();
     json_chunk.resize(json_chunk.len().next_multiple_of(4), b' ');
-    let mut bin_chunk = bin.clone();
+    let mut bin_chunk = bin.to_vec();
     bin_chunk.resize(bin_chunk.len().next_multiple_of(4), 0);
     let total = 12 + 8 + json_chunk.len() + 8 + bin_chunk.len();
     let mut glb = b"glTF".to_vec();
@@ -215,6 +207,21 @@ fn scene_glb_and_data_uri_load_identically() {
     glb.extend((bin_chunk.len() as u32).to_le_bytes());
     glb.extend(0x004E_4942_u32.to_le_bytes());
     glb.extend(&bin_chunk);
+    glb
+}
+
+#[test]
+fn scene_glb_and_data_uri_load_identically() {
+    let src = cornell_dir();
+    let reference = Scene::load(&src.join("cornell.gltf")).unwrap();
+    let bin = std::fs::read(src.join("cornell.bin")).unwrap();
+    let doc: Value = serde_json::from_slice(&std::fs::read(src.join("cornell.gltf")).unwrap()).unwrap();
+    let dir = TempDir::new("containers");
+
+    // GLB: the buffer without a URI is the BIN chunk.
+    let mut glb_doc = doc.clone();
+    glb_doc["buffers"][0].as_object_mut().unwrap().remove("uri");
+    let glb = glb(&glb_doc, &bin);
     let from_glb = Scene::load(&dir.write("cornell.glb", &glb)).unwrap();
 
     let mut uri_doc = doc;
@@ -327,17 +334,28 @@ fn scene_primitive_modes_materials_and_warnings() {
     assert_eq!((default.base_color, default.metallic, default.roughness), (Vec3::ONE, 1.0, 1.0));
     assert_eq!(scene.materials.len(), 3);
 
+    // The image is missing: one warning naming it, both slots left empty.
+    assert_eq!(m_textures_of(&scene, 0), (false, false));
     let warnings = scene.warnings.join("\n");
     assert!(
-        warnings.contains("KHR_texture_transform") && !warnings.contains("KHR_materials_specular"),
+        !warnings.contains("KHR_texture_transform") && !warnings.contains("KHR_materials_specular"),
         "{warnings}"
     );
     assert!(
-        warnings.contains("'textured'") && warnings.contains("base colour, normal textures"),
+        warnings.contains("image 0 ('never-read.png')")
+            && warnings.contains("material 'textured'")
+            && warnings.contains("left out"),
         "{warnings}"
     );
+    assert_eq!(warnings.matches("image 0 ('never-read.png')").count(), 1, "{warnings}");
     assert!(warnings.contains("Lines primitives are not rendered"), "{warnings}");
     assert!(warnings.lines().all(|w| w.contains("modes.gltf")), "{warnings}");
+}
+
+/// Whether material `m` has a base colour and a normal texture.
+fn m_textures_of(scene: &Scene, m: usize) -> (bool, bool) {
+    let t = &scene.materials[m].textures;
+    (t.base_color.is_some(), t.normal.is_some())
 }
 
 #[test]
@@ -362,19 +380,30 @@ fn scene_point_light_candela_to_radiant_intensity() {
     let scene = load_json(&dir, "lights.gltf", &doc).unwrap();
     // 2732 cd = 4 × 683: radiant intensity 4 W/sr times the colour.
     assert_eq!(
-        scene.lights,
-        vec![PunctualLight::Point {
-            position: Vec3::new(11.0, 2.0, 3.0),
-            intensity: Vec3::new(4.0, 2.0, 1.0)
-        }]
+        scene.lights[..1],
+        [PunctualLight::Point { position: Vec3::new(11.0, 2.0, 3.0), intensity: Vec3::new(4.0, 2.0, 1.0) }]
     );
-    let warnings = scene.warnings.join("\n");
-    assert!(warnings.contains("'cone'") && warnings.contains("spot lights are not supported"), "{warnings}");
-    assert!(warnings.contains("'sun'") && warnings.contains("directional lights"), "{warnings}");
+    // The spot's defaults (inner 0, outer π/4) and the sun's intensity 1 lux; both shine down
+    // their node's −Z; no generator, so the glTF falloff.
+    assert_eq!(
+        scene.lights[1..],
+        [
+            PunctualLight::Spot {
+                position: Vec3::new(10.0, 0.0, 0.0),
+                direction: Vec3::NEG_Z,
+                intensity: Vec3::splat(10.0 / 683.0),
+                inner_cone: 0.0,
+                outer_cone: std::f32::consts::FRAC_PI_4,
+                falloff: crate::scene::SpotFalloff::Gltf,
+            },
+            PunctualLight::Directional { direction: Vec3::NEG_Z, irradiance: Vec3::splat(1.0 / 683.0) },
+        ]
+    );
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
 }
 
 /// Loads `doc` (or raw bytes) as `name` and checks the error names the file and each needle.
-fn expect_error(dir: &TempDir, name: &str, contents: &[u8], needles: &[&str]) {
+pub(super) fn expect_error(dir: &TempDir, name: &str, contents: &[u8], needles: &[&str]) {
     let path = dir.write(name, contents);
     let message = match Scene::load(&path) {
         Ok(_) => panic!("{name} loaded"),
