@@ -61,6 +61,10 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
         max_depth: tracer::integrator::IntegratorConfig::DEFAULT.max_depth,
         rr_depth: tracer::integrator::IntegratorConfig::DEFAULT.rr_depth,
         env: None,
+        env_map: None,
+        env_rotation: 0.0,
+        env_strength: 1.0,
+        spot_falloff: None,
         aovs: false,
         quiet: a.quiet,
     };
@@ -78,9 +82,10 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
         lens_radius: 0.0,
         focus_distance: 1.0,
         ortho_half_height: 1.0,
+        cameras_file: None,
     };
     let mut scene = load_scene(&scene_path, true)?;
-    let views = select_views(&scene, &scene_args)?;
+    let views = select_views(&mut scene, &scene_args)?;
     let tracer = prepare(&mut scene, &q)?;
     let code = mcc::TagCode::default();
     for view in &views {

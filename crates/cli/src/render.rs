@@ -12,7 +12,7 @@ use tracer::camera::{Camera, CameraDesc, Overscan, Projection};
 use tracer::integrator::{IntegratorConfig, PathTracer};
 use tracer::lens::LensChain;
 use tracer::render::{RenderSettings, Rendered, render};
-use tracer::scene::{CameraSelector, Scene};
+use tracer::scene::{CameraSelector, PunctualLight, Scene, SpotFalloff};
 
 /// Camera models selectable from the command line.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -62,6 +62,10 @@ pub struct SceneArgs {
     /// Orthographic half height, in scene units.
     #[arg(long, default_value_t = 1.0)]
     pub ortho_half_height: f32,
+    /// A JSON camera list (for scenes without cameras, e.g. OBJ); its cameras are added to the
+    /// scene's and can be picked with --camera.
+    #[arg(long, value_name = "FILE")]
+    pub cameras_file: Option<PathBuf>,
 }
 
 /// Sampling and quality settings shared by every command that renders.
@@ -88,12 +92,33 @@ pub struct QualityArgs {
     /// Environment radiance (constant colour) as r,g,b, replacing the scene's.
     #[arg(long, value_name = "R,G,B")]
     pub env: Option<Vec3Arg>,
+    /// An equirectangular environment image (EXR; PNG/JPEG read as sRGB), importance-sampled.
+    #[arg(long, value_name = "FILE")]
+    pub env_map: Option<PathBuf>,
+    /// Rotation of the environment image about +Y, in degrees.
+    #[arg(long, default_value_t = 0.0, value_name = "DEGREES")]
+    pub env_rotation: f32,
+    /// Radiance multiplier of the environment image.
+    #[arg(long, default_value_t = 1.0)]
+    pub env_strength: f32,
+    /// Spot-light falloff, overriding the loader's choice (Blender's for Blender-made files).
+    #[arg(long, value_enum)]
+    pub spot_falloff: Option<FalloffArg>,
     /// Also write albedo, normal, depth and per-sample variance layers into the EXR.
     #[arg(long)]
     pub aovs: bool,
     /// No progress bar or summary.
     #[arg(long, short)]
     pub quiet: bool,
+}
+
+/// Spot-light falloff shapes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum FalloffArg {
+    /// Blender Cycles' smoothstep falloff.
+    Blender,
+    /// The glTF specification's recommended falloff.
+    Gltf,
 }
 
 /// Ray-file encodings, for every command that writes ray files.
@@ -173,8 +198,13 @@ pub fn load_scene(path: &Path, quiet: bool) -> anyhow::Result<Scene> {
     Ok(scene)
 }
 
-/// The cameras the arguments select, numbered in command-line order.
-pub fn select_views(scene: &Scene, a: &SceneArgs) -> anyhow::Result<Vec<View>> {
+/// The cameras the arguments select, numbered in command-line order (after adding those of
+/// --cameras-file to the scene's).
+pub fn select_views(scene: &mut Scene, a: &SceneArgs) -> anyhow::Result<Vec<View>> {
+    if let Some(file) = &a.cameras_file {
+        scene.cameras.extend(tracer::scene::camera_list::load(file)?);
+    }
+    let scene = &*scene;
     let fov = a.fov.map(f32::to_radians);
     let mut descs = if let (Some(from), Some(at)) = (a.look_from, a.look_at) {
         let projection = Projection::Perspective { fov_y: fov.unwrap_or(45f32.to_radians()) };
@@ -221,6 +251,26 @@ pub fn integrator_config(q: &QualityArgs) -> IntegratorConfig {
 pub fn prepare(scene: &mut Scene, q: &QualityArgs) -> anyhow::Result<PathTracer> {
     if let Some(env) = q.env {
         scene.environment.color = env.0;
+    }
+    if let Some(file) = &q.env_map {
+        let map = tracer::scene::EnvironmentMap::load(file, q.env_rotation.to_radians(), q.env_strength)?;
+        if !q.quiet {
+            for w in map.warnings() {
+                eprintln!("warning: {w}");
+            }
+        }
+        scene.environment_map = Some(map);
+    }
+    if let Some(f) = q.spot_falloff {
+        let falloff = match f {
+            FalloffArg::Blender => SpotFalloff::Blender,
+            FalloffArg::Gltf => SpotFalloff::Gltf,
+        };
+        for light in &mut scene.lights {
+            if let PunctualLight::Spot { falloff: f, .. } = light {
+                *f = falloff;
+            }
+        }
     }
     Ok(PathTracer::new(scene, integrator_config(q))?)
 }
@@ -300,7 +350,7 @@ pub fn run(a: RenderArgs) -> anyhow::Result<()> {
     let q = &a.quality;
     let code = mcc::TagCode::new(a.tag_bits)?;
     let mut scene = load_scene(&a.scene.scene, q.quiet)?;
-    let mut views = select_views(&scene, &a.scene)?;
+    let mut views = select_views(&mut scene, &a.scene)?;
     if a.first_id == 0 {
         bail!("--first-id must be at least 1 (0 means no camera)");
     }

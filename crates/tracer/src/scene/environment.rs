@@ -13,7 +13,7 @@
 //! 360°/width × 180°/height); [`EnvironmentMap::warnings`] says so.
 
 use super::EnvironmentMap;
-use super::gltf::images::{self, ColorSpace};
+use super::images::{self, ColorSpace};
 use crate::error::{Result, TracerError};
 use crate::texture::Texture;
 use glam::Vec4;

@@ -6,6 +6,7 @@
 pub mod camera_list;
 mod environment;
 mod gltf;
+mod images;
 mod mesh;
 mod obj;
 

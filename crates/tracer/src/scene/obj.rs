@@ -32,7 +32,7 @@
 //! are warnings (the surface gets [`Material::default()`], or the slot is left empty), never
 //! errors: the geometry is still worth rendering.
 
-use super::gltf::images::{self, ColorSpace};
+use super::images::{self, ColorSpace};
 use super::{MeshPart, Scene};
 use crate::error::{Result, TracerError};
 use crate::material::{AlphaMode, Material};

@@ -11,8 +11,9 @@
 //!   defines it: F0 = ((ior − 1)/(ior + 1))² × specular colour. The material model's F0 is
 //!   0.04 × `specular_color`, so the colour is scaled by F0(ior) / 0.04 (1 at the default 1.5).
 
-use super::images::{ColorSpace, TextureLoader, UvTransform};
+use super::textures::{TextureLoader, UvTransform};
 use crate::material::{AlphaMode, Material, MaterialTextures};
+use crate::scene::images::ColorSpace;
 use glam::Vec3;
 use serde_json::Value;
 

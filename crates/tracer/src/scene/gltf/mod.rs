@@ -20,12 +20,12 @@
 
 mod accessor;
 mod buffers;
-pub(super) mod images;
 mod material;
 #[cfg(test)]
 pub(super) mod tests;
 #[cfg(test)]
 mod texture_tests;
+mod textures;
 
 use super::{MeshExtras, MeshPart, PunctualLight, Scene, SpotFalloff};
 use crate::camera::{CameraDesc, Projection};
@@ -84,7 +84,7 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
     for ext in doc.extensions_used().filter(|e| !HANDLED_EXTENSIONS.contains(e)) {
         scene.warnings.push(format!("{}: extension {ext} is not supported; ignored", path.display()));
     }
-    let mut textures = images::TextureLoader::new(&doc, &buffers, base, path);
+    let mut textures = textures::TextureLoader::new(&doc, &buffers, base, path);
     let raw_materials = raw.get("materials").and_then(serde_json::Value::as_array);
     for m in doc.materials() {
         let raw_material = m.index().and_then(|i| raw_materials.and_then(|a| a.get(i)));
