@@ -28,6 +28,10 @@ pub(crate) struct WatertightRay {
     sx: f32,
     sy: f32,
     sz: f32,
+    /// 2·|sx|/|sz| and 2·|sy|/|sz|: turn the scaled z extent into the bound on the shear
+    /// terms |sx·(z − o_z)|, |sy·(z − o_z)| in the t error bound.
+    shear_x: f32,
+    shear_y: f32,
 }
 
 /// Where a ray hits a triangle.
@@ -59,7 +63,16 @@ impl WatertightRay {
         // d[kz] is the largest component (≥ 1/√3 of the length), so its reciprocal is exact
         // enough; any consistent shear keeps the test watertight.
         let sz = inv_dir[kz];
-        Self { k: [kx, ky, kz], origin: [o[kx], o[ky], o[kz]], sx: -d[kx] * sz, sy: -d[ky] * sz, sz }
+        let (sx, sy) = (-d[kx] * sz, -d[ky] * sz);
+        Self {
+            k: [kx, ky, kz],
+            origin: [o[kx], o[ky], o[kz]],
+            sx,
+            sy,
+            sz,
+            shear_x: 2.0 * (sx / sz).abs(),
+            shear_y: 2.0 * (sy / sz).abs(),
+        }
     }
 
     /// Intersects the triangle (p0, p1, p2) within (0, t_max); both faces count.
@@ -101,13 +114,17 @@ impl WatertightRay {
         let t = t_scaled * inv_det;
 
         // Reject hits whose t is not conservatively positive (pbrt-v4 §6.8.4): the error bound
-        // of t from the errors of the sheared coordinates and edge functions.
+        // of t from the errors of the sheared coordinates and edge functions. The sheared
+        // x' = (x − o_x) + sx·(z − o_z) is off by at most γ5·(|x − o_x| + |sx·(z − o_z)|)
+        // ≤ γ5·(|x'| + 2|sx|·|z − o_z|). pbrt-v4 bounds the shear term by the scaled z extent
+        // alone, which for rays grazing a large triangle (|sx| or |sy| tiny, the hit far along
+        // a wide, thin projected triangle) inflates δt past the hit and throws it away.
         let max_zt = z0.abs().max(z1.abs()).max(z2.abs());
         let delta_z = gamma(3) * max_zt;
         let max_xt = p0x.abs().max(p1x.abs()).max(p2x.abs());
         let max_yt = p0y.abs().max(p1y.abs()).max(p2y.abs());
-        let delta_x = gamma(5) * (max_xt + max_zt);
-        let delta_y = gamma(5) * (max_yt + max_zt);
+        let delta_x = gamma(5) * (max_xt + self.shear_x * max_zt);
+        let delta_y = gamma(5) * (max_yt + self.shear_y * max_zt);
         let delta_e = 2.0 * (gamma(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
         let max_e = e0.abs().max(e1.abs()).max(e2.abs());
         let delta_t = 3.0 * (gamma(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * inv_det.abs();
@@ -161,6 +178,25 @@ mod tests {
         // Degenerate (zero-area) triangles are never hit.
         let flat = tri(Vec3::ZERO, Vec3::X, Vec3::X * 2.0);
         assert!(r.intersect(&flat, f32::INFINITY).is_none());
+    }
+
+    /// Rays at cos 1e-7 to a 2048-wide plane hit it far away (the t error bound used to throw
+    /// these hits away: found by tests/robustness.rs's grazing-ray test).
+    #[test]
+    fn grazing_rays_hit_large_triangles() {
+        let t = tri(
+            Vec3::new(-1024.0, 1.5, -1024.0),
+            Vec3::new(1024.0, 1.5, -1024.0),
+            Vec3::new(0.0, 1.5, 1024.0),
+        );
+        for (slope, dist) in [(1e-5f32, 5.0f32), (1e-7, 2.0), (1e-7, 250.0), (1e-3, 300.0)] {
+            let d = Vec3::new(0.0, -slope, 1.0).normalize();
+            let o = Vec3::new(3.0, 1.5 + slope * dist, -100.0);
+            let h = ray(o, d).intersect(&t, f32::INFINITY).expect("grazing hit kept");
+            // Where this (rounded) ray meets the plane, in f64.
+            let want = (o.y as f64 - 1.5) / -(d.y as f64);
+            assert!((h.t as f64 - want).abs() < 1e-3 * want, "slope {slope}: t {} vs {want}", h.t);
+        }
     }
 
     /// Rays aimed exactly at the shared (interior) edges and the centre vertex of a fan hit at
