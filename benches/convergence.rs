@@ -1,1 +1,230 @@
-fn main() {}
+//! Error against time on the Cornell box, compared with the peers measured on this kind of
+//! machine (NOTES.md, "Peers measured here"; `tests/data/cornell/README.md`).
+//!
+//! `cargo bench -p mcctrace-suite --bench convergence` renders `scenes/cornell/cornell.gltf`
+//! (camera `cornell`, 256², at most 4 scattering vertices, default roulette depth) at 1, 2, 4,
+//! … 256 spp on the default rayon pool, times each by the render's own `stats.seconds` (tracing
+//! only; best of a few runs — the image is the same each run, the seed being fixed), measures
+//! relMSE against the Mitsuba 3 reference with `tracer::compare::rel_mse` (mean over pixels and
+//! channels of (x − r)² / (r² + 0.01)), and writes
+//!
+//! - `target/convergence/cornell.csv`: rows `spp,seconds,rel_mse`;
+//! - `target/convergence/cornell.png`: relMSE against seconds on log–log axes, with the peers'
+//!   points and the relMSE = 1e-3 line;
+//!
+//! and prints the table and the time at which relMSE first reaches 1e-3 (log–log interpolation
+//! between the bracketing spp). Paths are relative to the repository root.
+
+use glam::UVec2;
+use plotters::prelude::*;
+use plotters::style::FontStyle;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use tracer::compare::rel_mse;
+use tracer::integrator::{IntegratorConfig, PathTracer};
+use tracer::lens::LensChain;
+use tracer::render::{NoProgress, RenderSettings, render};
+use tracer::scene::{CameraSelector, Scene};
+
+const SIZE: u32 = 256;
+const SEED: u32 = 7;
+const TARGET: f64 = 1e-3;
+
+/// Peers (NOTES.md / the reference README): (label, [(seconds, relMSE)]).
+const MITSUBA_LLVM: [(f64, f64); 3] = [(0.231, 0.00919), (0.906, 0.00234), (3.60, 0.000584)];
+const MITSUBA_SCALAR: [(f64, f64); 1] = [(2.84, 0.00229)];
+/// Cycles reaches relMSE 1e-3 after ≈ 3.8 s (NOTES.md).
+const CYCLES_AT_TARGET: (f64, f64) = (3.8, 1e-3);
+
+struct Row {
+    spp: u32,
+    seconds: f64,
+    rel_mse: f64,
+}
+
+fn main() {
+    // `cargo bench` passes `--bench` (and filters); this plain main takes no options.
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let scene = Scene::load(&root.join("scenes/cornell/cornell.gltf")).expect("load the Cornell glTF");
+    let camera = scene.camera(&CameraSelector::Name("cornell".into())).expect("camera 'cornell'");
+    let camera = camera.build(UVec2::splat(SIZE)).expect("build the camera");
+    let reference =
+        tracer::image_io::read_exr_rgb(&root.join("tests/data/cornell/reference-mitsuba3-16384spp.exr"))
+            .expect("read the Mitsuba reference");
+    let config = IntegratorConfig::DEFAULT.with_max_depth(4);
+    let tracer = PathTracer::new(&scene, config).expect("prepare the scene");
+    println!(
+        "Cornell box {SIZE}², max depth {}, roulette from depth {}{}, {} threads, seed {SEED}",
+        config.max_depth,
+        config.rr_depth,
+        if config.rr_depth >= config.max_depth { " (so none)" } else { "" },
+        rayon::current_num_threads()
+    );
+
+    // Warm up (page in, spin up the pool) so the 1-spp timing is not a cold start.
+    let _ = render(&tracer, camera.as_ref(), &mut LensChain::new(), &RenderSettings::still(4), &NoProgress);
+
+    let mut rows = Vec::new();
+    println!("{:>5} {:>9} {:>11} {:>11} {:>13}", "spp", "seconds", "relMSE", "relMSE·spp", "M samples/s");
+    for k in 0..=8 {
+        let spp = 1u32 << k;
+        let runs = if spp <= 32 {
+            5
+        } else if spp <= 128 {
+            3
+        } else {
+            2
+        };
+        let settings = RenderSettings { seed: SEED, ..RenderSettings::still(spp) };
+        let mut best = f64::INFINITY;
+        let mut error = f64::NAN;
+        for _ in 0..runs {
+            let r = render(&tracer, camera.as_ref(), &mut LensChain::new(), &settings, &NoProgress)
+                .expect("render");
+            assert_eq!(r.stats.nonfinite_samples, 0, "{spp} spp: NaN/Inf samples");
+            best = best.min(r.stats.seconds);
+            error = rel_mse(&r.images.image, &reference);
+        }
+        let samples = (SIZE * SIZE) as f64 * spp as f64;
+        println!(
+            "{spp:>5} {best:>9.4} {error:>11.3e} {:>11.4} {:>13.2}",
+            error * spp as f64,
+            samples / best / 1e6
+        );
+        rows.push(Row { spp, seconds: best, rel_mse: error });
+    }
+
+    let crossing = time_to(&rows, TARGET);
+    match crossing {
+        Some((seconds, spp)) => {
+            println!(
+                "relMSE {TARGET:e} first reached after {seconds:.3} s (≈ {spp:.0} spp, log–log interpolation)"
+            )
+        }
+        None => println!("relMSE {TARGET:e} not reached by {} spp", rows.last().unwrap().spp),
+    }
+
+    let dir = root.join("target/convergence");
+    std::fs::create_dir_all(&dir).expect("create target/convergence");
+    let mut csv = String::from("spp,seconds,rel_mse\n");
+    for r in &rows {
+        writeln!(csv, "{},{:.6},{:.6e}", r.spp, r.seconds, r.rel_mse).unwrap();
+    }
+    let csv_path = dir.join("cornell.csv");
+    std::fs::write(&csv_path, csv).expect("write the CSV");
+    let png_path = dir.join("cornell.png");
+    plot(&png_path, &rows, crossing).expect("draw the plot");
+    println!("wrote {} and {}", csv_path.display(), png_path.display());
+}
+
+/// Seconds (and spp) at which relMSE first falls to `target`: log–log interpolation between the
+/// last row above it and the first row at or below it.
+fn time_to(rows: &[Row], target: f64) -> Option<(f64, f64)> {
+    let i = rows.iter().position(|r| r.rel_mse <= target)?;
+    if i == 0 {
+        return Some((rows[0].seconds, rows[0].spp as f64));
+    }
+    let (a, b) = (&rows[i - 1], &rows[i]);
+    let f = (target.ln() - a.rel_mse.ln()) / (b.rel_mse.ln() - a.rel_mse.ln());
+    let lerp = |x: f64, y: f64| (x.ln() + f * (y.ln() - x.ln())).exp();
+    Some((lerp(a.seconds, b.seconds), lerp(a.spp as f64, b.spp as f64)))
+}
+
+fn plot(path: &Path, rows: &[Row], crossing: Option<(f64, f64)>) -> Result<(), Box<dyn std::error::Error>> {
+    plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular())
+        .map_err(|_| "the bundled DejaVu Sans font did not load")?;
+    let root = BitMapBackend::new(path, (1000, 700)).into_drawing_area();
+    root.fill(&WHITE)?;
+
+    let peers = MITSUBA_LLVM.iter().chain(&MITSUBA_SCALAR).chain(std::iter::once(&CYCLES_AT_TARGET));
+    let (mut t_lo, mut t_hi, mut e_lo, mut e_hi) = (f64::INFINITY, 0f64, f64::INFINITY, 0f64);
+    for &(t, e) in rows.iter().map(|r| (r.seconds, r.rel_mse)).collect::<Vec<_>>().iter().chain(peers) {
+        (t_lo, t_hi, e_lo, e_hi) = (t_lo.min(t), t_hi.max(t), e_lo.min(e), e_hi.max(e));
+    }
+    let (t_lo, t_hi) = (t_lo / 1.5, t_hi * 1.5);
+    let (e_lo, e_hi) = (e_lo.min(TARGET) / 1.5, e_hi * 1.5);
+
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            format!(
+                "Cornell box {SIZE}², 4 bounces: relMSE vs render time ({} threads)",
+                rayon::current_num_threads()
+            ),
+            ("sans-serif", 26),
+        )
+        .margin(20)
+        .x_label_area_size(55)
+        .y_label_area_size(85)
+        .build_cartesian_2d((t_lo..t_hi).log_scale(), (e_lo..e_hi).log_scale())?;
+    chart
+        .configure_mesh()
+        .x_desc("render time [s] (log)")
+        .y_desc("relMSE vs Mitsuba 16384 spp (log)")
+        .x_label_formatter(&|v| format!("{}", (v * 1e3).round() / 1e3))
+        .y_label_formatter(&|v| format!("{v:.0e}"))
+        .label_style(("sans-serif", 17))
+        .axis_desc_style(("sans-serif", 19))
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()?;
+
+    // The target line.
+    let grey = RGBColor(120, 120, 120);
+    chart
+        .draw_series(LineSeries::new([(t_lo, TARGET), (t_hi, TARGET)], grey.stroke_width(2)))?
+        .label(format!("relMSE = {TARGET:.0e}"))
+        .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], grey.stroke_width(2)));
+
+    // mcctrace.
+    let ours = RGBColor(200, 40, 40);
+    let points: Vec<(f64, f64)> = rows.iter().map(|r| (r.seconds, r.rel_mse)).collect();
+    chart
+        .draw_series(LineSeries::new(points.clone(), ours.stroke_width(3)))?
+        .label("mcctrace (1 … 256 spp)")
+        .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], ours.stroke_width(3)));
+    chart.draw_series(points.iter().map(|&p| Circle::new(p, 5, ours.filled())))?;
+    // "N spp" up and to the left of each point (the curve runs down to the right).
+    chart.draw_series(rows.iter().map(|r| {
+        let label = ("sans-serif", 15).into_font().color(&ours);
+        EmptyElement::at((r.seconds, r.rel_mse)) + Text::new(format!("{} spp", r.spp), (-62, -22), label)
+    }))?;
+    if let Some((t, _)) = crossing {
+        chart.draw_series(std::iter::once(Cross::new((t, TARGET), 9, ours.stroke_width(3))))?;
+        let label = ("sans-serif", 16).into_font().color(&ours);
+        chart.draw_series(std::iter::once(
+            EmptyElement::at((t, TARGET)) + Text::new(format!("1e-3 at {t:.2} s"), (10, 8), label),
+        ))?;
+    }
+
+    // Peers.
+    let blue = RGBColor(30, 90, 200);
+    chart
+        .draw_series(MITSUBA_LLVM.iter().map(|&p| TriangleMarker::new(p, 9, blue.filled())))?
+        .label("Mitsuba 3 llvm_ad_rgb (16, 64, 256 spp)")
+        .legend(move |(x, y)| TriangleMarker::new((x + 12, y), 7, blue.filled()));
+    let teal = RGBColor(20, 150, 130);
+    chart
+        .draw_series(
+            MITSUBA_SCALAR
+                .iter()
+                .map(|&p| EmptyElement::at(p) + Rectangle::new([(-6, -6), (6, 6)], teal.filled())),
+        )?
+        .label("Mitsuba 3 scalar_rgb (64 spp)")
+        .legend(move |(x, y)| Rectangle::new([(x + 7, y - 5), (x + 17, y + 5)], teal.filled()));
+    let orange = RGBColor(230, 130, 0);
+    chart
+        .draw_series(std::iter::once(
+            EmptyElement::at(CYCLES_AT_TARGET) + Circle::new((0, 0), 8, orange.filled()),
+        ))?
+        .label("Blender Cycles: 1e-3 after ≈ 3.8 s")
+        .legend(move |(x, y)| Circle::new((x + 12, y), 6, orange.filled()));
+
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .label_font(("sans-serif", 17))
+        .background_style(WHITE.mix(0.9))
+        .border_style(BLACK)
+        .draw()?;
+    root.present()?;
+    Ok(())
+}
