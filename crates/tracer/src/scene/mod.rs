@@ -2,7 +2,10 @@
 //! materials, cameras, punctual lights and the environment. Loaders: `gltf` (glTF 2.0, .gltf and
 //! .glb) and `obj` (OBJ/MTL; a directory or list of OBJ files is one scene). The acceleration
 //! structure and light sampling structures are built from a `Scene` by `crate::integrator`.
+//! An animated glTF scene keeps its node hierarchy and keyframes (`animation`); [`Scene::at_time`]
+//! flattens it again at any time.
 
+mod animation;
 pub mod camera_list;
 mod environment;
 mod gltf;
@@ -10,6 +13,7 @@ mod images;
 mod mesh;
 mod obj;
 
+pub use animation::SceneAnimation;
 pub use mesh::{Mesh, MeshExtras, MeshPart};
 
 use crate::camera::CameraDesc;
@@ -17,6 +21,7 @@ use crate::error::{Result, TracerError};
 use crate::material::Material;
 use glam::Vec3;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// A light with no area (`KHR_lights_punctual`). Intensities are radiant (W/sr per channel);
 /// the glTF loader converts from candela (÷ 683, NOTES.md) and lux (÷ 683).
@@ -140,10 +145,15 @@ pub struct Scene {
     pub textures: Vec<crate::texture::Texture>,
     /// An environment image replacing `environment.color` where rays leave the scene.
     pub environment_map: Option<EnvironmentMap>,
+    /// The node hierarchy and keyframes of an animated scene, from which [`Scene::at_time`]
+    /// flattens it at any time; `None` for a static scene (and every OBJ scene).
+    pub animation: Option<Arc<SceneAnimation>>,
 }
 
 impl Scene {
     /// Loads a scene: `.gltf`/`.glb`, `.obj`, or a directory whose `.obj` files form one scene.
+    /// An animated scene is returned at t = 0 (its channels' values there, glTF clamping a time
+    /// before a channel's first key to that key).
     pub fn load(path: &Path) -> Result<Self> {
         let meta = std::fs::metadata(path).map_err(|e| TracerError::io(path, e))?;
         let scene = if meta.is_dir() {
@@ -199,38 +209,54 @@ impl Scene {
         format!("{} camera{}: {}", list.len(), if list.len() == 1 { "" } else { "s" }, list.join(", "))
     }
 
+    /// The scene at `seconds`: every animated node's translation, rotation and scale sampled
+    /// there (clamped to each channel's keys), and the meshes, cameras and lights on those nodes
+    /// and below them moved with them. Materials, textures, the environment and the warnings
+    /// carry over unchanged, and so do cameras added after the file's own (a camera-list
+    /// file's). A static scene is returned as it is. The error names the file, the time and
+    /// what an animated transform broke (a light left without a direction by a zero scale …).
+    pub fn at_time(&self, seconds: f32) -> Result<Scene> {
+        let Some(animation) = &self.animation else { return Ok(self.clone()) };
+        if seconds.is_nan() {
+            return Err(TracerError::Settings(format!("{}: the time to render is NaN", self.path.display())));
+        }
+        let at = |m: String| TracerError::scene(&self.path, format!("at t = {seconds} s: {m}"));
+        let flat = animation.flatten_at(seconds).map_err(at)?;
+        let mut cameras = flat.cameras;
+        cameras.extend(self.cameras.iter().skip(animation.camera_count()).cloned());
+        let scene = Scene {
+            path: self.path.clone(),
+            mesh: flat.mesh,
+            materials: self.materials.clone(),
+            cameras,
+            lights: flat.lights,
+            environment: self.environment,
+            warnings: self.warnings.clone(),
+            textures: self.textures.clone(),
+            environment_map: self.environment_map.clone(),
+            animation: Some(Arc::clone(animation)),
+        };
+        scene.validate_geometry().map_err(|e| match e {
+            TracerError::Scene { path, message } => {
+                TracerError::scene(path, format!("at t = {seconds} s: {message}"))
+            }
+            e => e,
+        })?;
+        Ok(scene)
+    }
+
+    /// How long the scene's animation runs: the end of its longest channel in seconds (0 for a
+    /// static scene).
+    pub fn duration(&self) -> f32 {
+        self.animation.as_ref().map_or(0.0, |a| a.duration())
+    }
+
     /// Checks the whole scene for values the tracer cannot use (NaN vertices, bad indices,
     /// out-of-range materials) and names the first problem.
     pub fn validate(&self) -> Result<()> {
-        self.mesh.validate(self.materials.len()).map_err(|m| TracerError::scene(&self.path, m))?;
+        self.validate_geometry()?;
         for m in &self.materials {
             m.validate().map_err(|msg| TracerError::scene(&self.path, msg))?;
-        }
-        for (i, light) in self.lights.iter().enumerate() {
-            let ok = match *light {
-                PunctualLight::Point { position, intensity } => {
-                    position.is_finite() && intensity.is_finite() && intensity.min_element() >= 0.0
-                }
-                PunctualLight::Spot { position, direction, intensity, inner_cone, outer_cone, .. } => {
-                    position.is_finite()
-                        && direction.is_normalized()
-                        && intensity.is_finite()
-                        && intensity.min_element() >= 0.0
-                        && inner_cone >= 0.0
-                        && inner_cone <= outer_cone
-                        && outer_cone > 0.0
-                        && outer_cone <= std::f32::consts::FRAC_PI_2
-                }
-                PunctualLight::Directional { direction, irradiance } => {
-                    direction.is_normalized() && irradiance.is_finite() && irradiance.min_element() >= 0.0
-                }
-            };
-            if !ok {
-                return Err(TracerError::scene(
-                    &self.path,
-                    format!("light {i} has a non-finite, negative or out-of-range value: {light:?}"),
-                ));
-            }
         }
         for t in &self.textures {
             if t.texels.len() != t.width as usize * t.height as usize
@@ -257,6 +283,39 @@ impl Scene {
         }
         if !self.environment.color.is_finite() || self.environment.color.min_element() < 0.0 {
             return Err(TracerError::scene(&self.path, "environment colour must be finite and non-negative"));
+        }
+        Ok(())
+    }
+
+    /// The part of [`Scene::validate`] that node transforms affect: the mesh (its material ids
+    /// included) and the lights.
+    fn validate_geometry(&self) -> Result<()> {
+        self.mesh.validate(self.materials.len()).map_err(|m| TracerError::scene(&self.path, m))?;
+        for (i, light) in self.lights.iter().enumerate() {
+            let ok = match *light {
+                PunctualLight::Point { position, intensity } => {
+                    position.is_finite() && intensity.is_finite() && intensity.min_element() >= 0.0
+                }
+                PunctualLight::Spot { position, direction, intensity, inner_cone, outer_cone, .. } => {
+                    position.is_finite()
+                        && direction.is_normalized()
+                        && intensity.is_finite()
+                        && intensity.min_element() >= 0.0
+                        && inner_cone >= 0.0
+                        && inner_cone <= outer_cone
+                        && outer_cone > 0.0
+                        && outer_cone <= std::f32::consts::FRAC_PI_2
+                }
+                PunctualLight::Directional { direction, irradiance } => {
+                    direction.is_normalized() && irradiance.is_finite() && irradiance.min_element() >= 0.0
+                }
+            };
+            if !ok {
+                return Err(TracerError::scene(
+                    &self.path,
+                    format!("light {i} has a non-finite, negative or out-of-range value: {light:?}"),
+                ));
+            }
         }
         Ok(())
     }

@@ -45,6 +45,30 @@ pub(super) fn read_indices(acc: &Accessor, buffers: &[Vec<u8>]) -> Result<Vec<u3
     Ok(read(acc, buffers)?.into_iter().map(|v| v as u32).collect())
 }
 
+/// Reads an animation sampler's input: `SCALAR` floats (key times in seconds).
+pub(super) fn read_times(acc: &Accessor, buffers: &[Vec<u8>]) -> Result<Vec<f32>, String> {
+    expect(acc, "animation input", Dimensions::Scalar, &[(DataType::F32, false)])?;
+    Ok(read(acc, buffers)?.into_iter().map(|v| v as f32).collect())
+}
+
+/// Reads an animation sampler's rotation output: `VEC4` quaternions (xyzw) of floats or
+/// normalised bytes or shorts (glTF §3.11).
+pub(super) fn read_rotations(acc: &Accessor, buffers: &[Vec<u8>]) -> Result<Vec<Vec4>, String> {
+    let allowed = [
+        (DataType::F32, false),
+        (DataType::I8, true),
+        (DataType::U8, true),
+        (DataType::I16, true),
+        (DataType::U16, true),
+    ];
+    expect(acc, "rotation output", Dimensions::Vec4, &allowed)?;
+    let values = read(acc, buffers)?;
+    Ok(values
+        .chunks_exact(4)
+        .map(|c| Vec4::new(c[0] as f32, c[1] as f32, c[2] as f32, c[3] as f32))
+        .collect())
+}
+
 /// Checks an accessor's element type against what its use allows.
 fn expect(acc: &Accessor, what: &str, dims: Dimensions, allowed: &[(DataType, bool)]) -> Result<(), String> {
     let (ty, norm) = (acc.data_type(), acc.normalized());

@@ -2,7 +2,13 @@
 //! hierarchy flattened into world space, perspective and orthographic cameras, metallic-roughness
 //! materials with their textures (`images`), alpha modes, `KHR_texture_transform`,
 //! `KHR_materials_emissive_strength`, `KHR_materials_specular`, `KHR_materials_transmission`,
-//! `KHR_materials_ior` (`material`), and `KHR_lights_punctual` point, spot and directional lights.
+//! `KHR_materials_ior` (`material`), `KHR_lights_punctual` point, spot and directional lights,
+//! and node animations (`animation`: translation, rotation and scale channels).
+//!
+//! The hierarchy is read into a [`Rig`] (primitives in local space, each mesh once however many
+//! nodes instance it) and flattened by [`Rig::flatten`] at t = 0; an animated file keeps the rig
+//! and its channels in `Scene::animation` so [`Scene::at_time`] can flatten it at any other time.
+//!
 //! Every malformed input is a [`TracerError`] naming the file, never a panic; an image that cannot
 //! be used is a warning (the material slot is left empty).
 //!
@@ -19,6 +25,9 @@
 //! recommended falloff ([`SpotFalloff`](super::SpotFalloff)).
 
 mod accessor;
+mod animation;
+#[cfg(test)]
+mod animation_tests;
 mod buffers;
 mod material;
 #[cfg(test)]
@@ -27,12 +36,15 @@ pub(super) mod tests;
 mod texture_tests;
 mod textures;
 
-use super::{MeshExtras, MeshPart, PunctualLight, Scene, SpotFalloff};
-use crate::camera::{CameraDesc, Projection};
+use super::animation::{LightKind, Pose, Primitive, Rig, RigCamera, RigLight, RigNode};
+use super::{Scene, SceneAnimation, SpotFalloff};
+use crate::camera::Projection;
 use crate::error::{Result, TracerError};
-use glam::{Affine3A, Mat3, Mat4, Quat, Vec3, Vec4};
+use glam::{Affine3A, Mat4, Quat, Vec3};
 use gltf::mesh::{Mode, Semantic};
+use std::ops::Range;
 use std::path::Path;
+use std::sync::Arc;
 
 /// Extensions this loader understands; a file requiring any other is refused.
 const HANDLED_EXTENSIONS: &[&str] = &[
@@ -46,6 +58,12 @@ const HANDLED_EXTENSIONS: &[&str] = &[
 
 /// Loads a `.gltf` or `.glb` file (told apart by the GLB magic, not the name).
 pub(super) fn load(path: &Path) -> Result<Scene> {
+    load_with(path, false)
+}
+
+/// [`load`], keeping the node hierarchy in `Scene::animation` even when nothing is animated
+/// if `keep_rig` (so a test can time flattening a static scene again).
+pub(super) fn load_with(path: &Path, keep_rig: bool) -> Result<Scene> {
     let bytes = std::fs::read(path).map_err(|e| TracerError::io(path, e))?;
     let err = |m: String| TracerError::scene(path, m);
     let (json, bin) = if bytes.starts_with(b"glTF") {
@@ -71,6 +89,7 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
     // The gltf crate's validator refuses required extensions it does not parse itself (e.g.
     // KHR_materials_specular); they were checked above, so it need not see the list.
     root.extensions_required.clear();
+    animation::check_indices(&root).map_err(err)?;
     let unbounded = fill_position_bounds(&mut root);
     let doc = gltf::Document::from_json(root).map_err(|e| err(e.to_string()))?;
     let base = path.parent().unwrap_or(Path::new("."));
@@ -96,20 +115,55 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
     // Blender-exported spot lights keep the falloff Cycles rendered them with (module docs).
     let generator = doc.as_json().asset.generator.as_deref().unwrap_or("");
     let spot_falloff = if generator.contains("Blender") { SpotFalloff::Blender } else { SpotFalloff::Gltf };
-    let mut loader = Loader { path, buffers: &buffers, scene, default_material: None, spot_falloff };
+    let mut loader = Loader {
+        path,
+        buffers: &buffers,
+        scene,
+        default_material: None,
+        spot_falloff,
+        rig: Rig::default(),
+        mesh_primitives: vec![None; doc.meshes().len()],
+        rig_node_of: vec![None; doc.nodes().len()],
+        cameras: 0,
+    };
     loader.traverse(&doc)?;
-    Ok(loader.scene)
+    let Loader { mut scene, rig, rig_node_of, .. } = loader;
+    let (channels, warnings) = animation::read(&doc, &buffers, &rig, &rig_node_of).map_err(err)?;
+    scene.warnings.extend(warnings.into_iter().map(|w| format!("{}: {w}", path.display())));
+    let animated = !channels.is_empty();
+    // Static or not, the scene is flattened by the same code: at t = 0, where a static scene's
+    // nodes are at rest and an animated one's take their channels' values (glTF clamps a time
+    // before the first key to it).
+    let animation = SceneAnimation::new(rig, channels).map_err(err)?;
+    let flat = animation.flatten_at(0.0).map_err(err)?;
+    scene.mesh = flat.mesh;
+    scene.cameras = flat.cameras;
+    scene.lights = flat.lights;
+    if animated || keep_rig {
+        scene.animation = Some(Arc::new(animation));
+    }
+    Ok(scene)
 }
 
-/// State while walking the node hierarchy.
+/// State while walking the node hierarchy into a [`Rig`].
 struct Loader<'a> {
     path: &'a Path,
     buffers: &'a [Vec<u8>],
+    /// Materials and warnings so far.
     scene: Scene,
     /// Index of glTF's default material once a primitive without a material needed it.
     default_material: Option<u32>,
     /// How spot lights fade (by the file's generator).
     spot_falloff: SpotFalloff,
+    /// The hierarchy being built.
+    rig: Rig,
+    /// Each glTF mesh's primitives in `rig` once read: a mesh instanced by several nodes is
+    /// read (and warned about) once.
+    mesh_primitives: Vec<Option<Range<usize>>>,
+    /// Each glTF node's index in `rig`, if the rendered scene holds it.
+    rig_node_of: Vec<Option<usize>>,
+    /// Cameras met so far (names unnamed ones).
+    cameras: usize,
 }
 
 impl Loader<'_> {
@@ -122,7 +176,7 @@ impl Loader<'_> {
     }
 
     /// Visits the default scene (else scene 0, else every root node) depth first, parents before
-    /// children, in file order: cameras are listed in this order.
+    /// children, in file order: the rig's nodes, and so cameras and lights, are in this order.
     fn traverse(&mut self, doc: &gltf::Document) -> Result<()> {
         let roots: Vec<gltf::Node> = match doc.default_scene().or_else(|| doc.scenes().next()) {
             Some(scene) => scene.nodes().collect(),
@@ -137,51 +191,48 @@ impl Loader<'_> {
             }
         };
         // An explicit stack: a hostile file's deep hierarchy cannot overflow the thread's stack.
-        let mut stack: Vec<(gltf::Node, Affine3A)> =
-            roots.into_iter().rev().map(|n| (n, Affine3A::IDENTITY)).collect();
-        let mut visited = vec![false; doc.nodes().len()];
+        let mut stack: Vec<(gltf::Node, Option<usize>)> =
+            roots.into_iter().rev().map(|n| (n, None)).collect();
         while let Some((node, parent)) = stack.pop() {
             let label = node_label(&node);
-            match visited.get_mut(node.index()) {
-                Some(seen) if !*seen => *seen = true,
+            let index = self.rig.nodes.len();
+            match self.rig_node_of.get_mut(node.index()) {
+                Some(seen @ None) => *seen = Some(index),
                 _ => {
                     return Err(self.error(format!(
                         "{label} is reached twice in the node hierarchy (a cycle or a second parent); glTF nodes must form trees"
                     )));
                 }
             }
-            let world = parent * local_transform(&node);
-            if !world.is_finite() {
-                return Err(self.error(format!("{label} has a non-finite transform")));
-            }
-            if let Some(mesh) = node.mesh() {
-                self.mesh(&mesh, &world)?;
-            }
+            let primitives = match node.mesh() {
+                Some(mesh) => self.mesh(&mesh)?,
+                None => 0..0,
+            };
             if node.skin().is_some() {
                 self.warn(format!("{label}: skinning is not supported; the mesh is drawn in its bind pose"));
             }
-            if let Some(camera) = node.camera() {
-                self.camera(doc, &node, &camera, world)?;
-            }
-            if let Some(light) = node.light() {
-                self.light(&light, &world)?;
-            }
+            let camera = match node.camera() {
+                Some(camera) => Some(self.camera(doc, &node, &camera)?),
+                None => None,
+            };
+            let light = match node.light() {
+                Some(light) => Some(self.light(&light)?),
+                None => None,
+            };
+            let rest = rest_pose(&node);
+            self.rig.nodes.push(RigNode { label, parent, rest, primitives, camera, light });
             let children: Vec<_> = node.children().collect();
-            stack.extend(children.into_iter().rev().map(|c| (c, world)));
+            stack.extend(children.into_iter().rev().map(|c| (c, Some(index))));
         }
         Ok(())
     }
 
-    /// Flattens a mesh's triangle primitives into the scene through `world`.
-    fn mesh(&mut self, mesh: &gltf::Mesh, world: &Affine3A) -> Result<()> {
-        let m = Mat3::from(world.matrix3);
-        let det = m.determinant();
-        // Normals transform by the inverse transpose; the cofactor matrix is that times det, so
-        // it stays finite for singular transforms. Its sign is fixed by sign(det) so a mirrored
-        // node's normals still point out of the (re-wound) front face.
-        let cofactor =
-            Mat3::from_cols(m.y_axis.cross(m.z_axis), m.z_axis.cross(m.x_axis), m.x_axis.cross(m.y_axis))
-                * det.signum();
+    /// Reads a mesh's triangle primitives into the rig (once per mesh); returns their indices.
+    fn mesh(&mut self, mesh: &gltf::Mesh) -> Result<Range<usize>> {
+        if let Some(Some(done)) = self.mesh_primitives.get(mesh.index()) {
+            return Ok(done.clone());
+        }
+        let start = self.rig.primitives.len();
         for prim in mesh.primitives() {
             let what =
                 format!("mesh {} ('{}') primitive {}", mesh.index(), mesh.name().unwrap_or(""), prim.index());
@@ -199,7 +250,7 @@ impl Loader<'_> {
             if prim.morph_targets().next().is_some() {
                 self.warn(format!("{what}: morph targets are not supported; drawn without them"));
             }
-            let mut positions = accessor::read_vec3(&pos_accessor, self.buffers, "POSITION").map_err(fail)?;
+            let positions = accessor::read_vec3(&pos_accessor, self.buffers, "POSITION").map_err(fail)?;
             let normals = match prim.get(&Semantic::Normals) {
                 Some(a) => Some(accessor::read_vec3(&a, self.buffers, "NORMAL").map_err(fail)?),
                 None => None,
@@ -229,41 +280,28 @@ impl Loader<'_> {
                 Mode::TriangleFan => fan_to_list(&indices),
                 _ => indices,
             };
-            if det < 0.0 {
-                // A mirroring transform turns counter-clockwise into clockwise: swap back.
-                indices.chunks_exact_mut(3).for_each(|t| t.swap(1, 2));
-            }
-            positions.iter_mut().for_each(|p| *p = world.transform_point3(*p));
-            let normals = normals
-                .map(|ns| ns.into_iter().map(|n| (cofactor * n).normalize_or_zero()).collect::<Vec<_>>());
-            // Tangents are directions on the surface: they transform like positions' differences.
-            // A mirroring transform flips the handedness of the tangent frame, so w flips too.
-            let handedness = if det < 0.0 { -1.0 } else { 1.0 };
-            let tangents = tangents.map(|ts| {
-                ts.into_iter()
-                    .map(|t| {
-                        let xyz = (m * t.truncate()).normalize_or_zero();
-                        let w = if t.w < 0.0 { -handedness } else { handedness };
-                        if xyz == Vec3::ZERO { Vec4::ZERO } else { xyz.extend(w) }
-                    })
-                    .collect::<Vec<_>>()
-            });
             let material = match prim.material().index() {
                 Some(i) => i as u32,
                 None => self.default_material(),
             };
             self.check_texture_coordinates(&what, material, [uvs.is_some(), uvs1.is_some()]);
-            let part = MeshPart {
-                positions: &positions,
-                normals: normals.as_deref(),
-                uvs: uvs.as_deref(),
-                indices: Some(&indices),
+            // Counts and indices are checked when the primitive is flattened (`Mesh::push_with`).
+            self.rig.primitives.push(Primitive {
+                label: what,
+                positions,
+                normals,
+                uvs,
+                uvs1,
+                tangents,
+                indices,
                 material,
-            };
-            let extras = MeshExtras { uvs1: uvs1.as_deref(), tangents: tangents.as_deref() };
-            self.scene.mesh.push_with(part, extras).map_err(fail)?;
+            });
         }
-        Ok(())
+        let range = start..self.rig.primitives.len();
+        if let Some(slot) = self.mesh_primitives.get_mut(mesh.index()) {
+            *slot = Some(range.clone());
+        }
+        Ok(range)
     }
 
     /// Warns when `material`'s textures read a coordinate set the primitive lacks (the tracer
@@ -299,15 +337,15 @@ impl Loader<'_> {
         doc: &gltf::Document,
         node: &gltf::Node,
         camera: &gltf::Camera,
-        world: Affine3A,
-    ) -> Result<()> {
+    ) -> Result<RigCamera> {
         use gltf::json::camera::Type;
         use gltf::json::validation::Checked;
         let name = [node.name(), camera.name()]
             .into_iter()
             .flatten()
             .find(|n| !n.is_empty())
-            .map_or_else(|| format!("camera{}", self.scene.cameras.len()), str::to_owned);
+            .map_or_else(|| format!("camera{}", self.cameras), str::to_owned);
+        self.cameras += 1;
         // Read from the JSON: the gltf crate's `projection()` panics when `type` names an object
         // the camera lacks, which its validator lets through. The aspect ratio is ignored: the
         // resolution is the renderer's choice (as in Blender).
@@ -326,11 +364,11 @@ impl Loader<'_> {
                 )));
             }
         };
-        self.scene.cameras.push(CameraDesc { name, world_from_camera: world, projection });
-        Ok(())
+        Ok(RigCamera { name, projection })
     }
 
-    fn light(&mut self, light: &gltf::khr_lights_punctual::Light, world: &Affine3A) -> Result<()> {
+    /// The light's node-independent part; its node places and aims it (`RigLight::place`).
+    fn light(&mut self, light: &gltf::khr_lights_punctual::Light) -> Result<RigLight> {
         use gltf::khr_lights_punctual::Kind;
         let label = format!("light {} ('{}')", light.index(), light.name().unwrap_or(""));
         let color = Vec3::from(light.color());
@@ -342,20 +380,8 @@ impl Loader<'_> {
         }
         // Units: module docs. `range` is ignored on purpose (inverse-square falloff).
         let radiant = color * (intensity / 683.0);
-        let position = Vec3::from(world.translation);
-        // Spot and directional lights shine along their node's local −Z.
-        let direction = || -> Result<Vec3> {
-            let d = world.transform_vector3(Vec3::NEG_Z);
-            let n = d.normalize_or_zero();
-            if n == Vec3::ZERO || !n.is_finite() {
-                return Err(self.error(format!(
-                    "{label}: its node's transform is singular, so the light has no direction"
-                )));
-            }
-            Ok(n)
-        };
-        let light = match light.kind() {
-            Kind::Point => PunctualLight::Point { position, intensity: radiant },
+        let kind = match light.kind() {
+            Kind::Point => LightKind::Point { intensity: radiant },
             Kind::Spot { inner_cone_angle, outer_cone_angle } => {
                 let (inner, outer) = (inner_cone_angle, outer_cone_angle);
                 let half_pi = std::f32::consts::FRAC_PI_2;
@@ -367,19 +393,16 @@ impl Loader<'_> {
                         "{label}: innerConeAngle {inner} must be in [0, outerConeAngle = {outer}]"
                     )));
                 }
-                PunctualLight::Spot {
-                    position,
-                    direction: direction()?,
+                LightKind::Spot {
                     intensity: radiant,
                     inner_cone: inner,
                     outer_cone: outer,
                     falloff: self.spot_falloff,
                 }
             }
-            Kind::Directional => PunctualLight::Directional { direction: direction()?, irradiance: radiant },
+            Kind::Directional => LightKind::Directional { irradiance: radiant },
         };
-        self.scene.lights.push(light);
-        Ok(())
+        Ok(RigLight { label, kind })
     }
 }
 
@@ -413,16 +436,17 @@ fn node_label(node: &gltf::Node) -> String {
     }
 }
 
-/// A node's transform relative to its parent (TRS composed as T · R · S, or the matrix).
-fn local_transform(node: &gltf::Node) -> Affine3A {
+/// A node's transform relative to its parent when no animation applies.
+fn rest_pose(node: &gltf::Node) -> Pose {
     match node.transform() {
-        gltf::scene::Transform::Matrix { matrix } => Affine3A::from_mat4(Mat4::from_cols_array_2d(&matrix)),
+        gltf::scene::Transform::Matrix { matrix } => {
+            Pose::Matrix(Affine3A::from_mat4(Mat4::from_cols_array_2d(&matrix)))
+        }
         gltf::scene::Transform::Decomposed { translation, rotation, scale } => {
             // Exporters write unit quaternions to float precision only; renormalise. A zero
-            // quaternion has no rotation to recover and yields NaN, reported by the caller.
+            // quaternion has no rotation to recover and yields NaN, reported when flattening.
             let q = Quat::from_array(rotation);
-            let q = q / q.length();
-            Affine3A::from_scale_rotation_translation(scale.into(), q, translation.into())
+            Pose::Trs { translation: translation.into(), rotation: q / q.length(), scale: scale.into() }
         }
     }
 }
