@@ -7,6 +7,7 @@
 pub mod collage;
 pub mod compose;
 pub mod error;
+pub mod inbetween;
 pub mod lens_reader;
 pub mod lens_writer;
 pub mod names;
@@ -26,6 +27,7 @@ pub use image;
 
 pub use collage::{Collage, CollageOptions, StrayPolicy, StrayReport};
 pub use error::{MccError, Result};
+pub use inbetween::{InbetweenMode, Keys};
 pub use lens_reader::LensReader;
 pub use lens_writer::LensWriter;
 pub use ray_file::{RayFile, RayFormat, StoredRay};

@@ -1,0 +1,329 @@
+//! Per-pixel mathematics of the in-betweener: the frame-domain Hermite weights, the key tangents,
+//! and the smooth direction curve (see the parent module for why it is C1 and safe).
+//!
+//! Everything here is a pure function of its arguments: a pixel's result depends on nothing else,
+//! so frames are bit-identical whatever the thread count.
+
+use crate::ray_file::StoredRay;
+use glam::{DVec3, Vec3};
+
+/// The cubic Hermite basis of one frame, in the frame domain: for a segment from key k (time
+/// t_k) to key k + 1 (time t_k + h) and s = (t − t_k)/h, a value is
+/// `p_k + (p_{k+1} − p_k)·h01 + m_k·c0 + m_{k+1}·c1` with m the tangents in units per frame,
+/// h01 = 3s² − 2s³, c0 = h·(s − 2s² + s³) and c1 = h·(s³ − s²). Computed once per frame in f64.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Hermite {
+    pub h01: f32,
+    pub c0: f32,
+    pub c1: f32,
+}
+
+impl Hermite {
+    /// The weights at fraction `s` ∈ (0, 1) of a segment `h` frames long.
+    pub fn new(s: f64, h: f64) -> Self {
+        let r = 1.0 - s;
+        Self {
+            h01: (s * s * (3.0 - 2.0 * s)) as f32,
+            c0: (h * s * r * r) as f32,
+            c1: (-h * s * s * r) as f32,
+        }
+    }
+}
+
+/// The tangent (velocity per frame) of key k from its neighbours, Catmull–Rom in the frame
+/// domain: origins (p_{k+1} − p_{k−1}) / (t_{k+1} − t_{k−1}); directions the same difference of
+/// the sphere's logarithm at d_k, (log_{d_k} d_{k+1} − log_{d_k} d_{k−1}) / (t_{k+1} − t_{k−1}),
+/// a vector in the tangent plane of d_k. Computed in f64 and stored as a [`StoredRay`] whose
+/// `origin` and `direction` hold the two velocities.
+pub(super) fn tangent(prev: &StoredRay, key: &StoredRay, next: &StoredRay, span: f64) -> StoredRay {
+    let origin = (next.origin.as_dvec3() - prev.origin.as_dvec3()) / span;
+    let d = key.direction.as_dvec3().normalize();
+    let forward = log_map(d, next.direction.as_dvec3().normalize());
+    let backward = log_map(d, prev.direction.as_dvec3().normalize());
+    StoredRay { origin: origin.as_vec3(), direction: ((forward - backward) / span).as_vec3() }
+}
+
+/// The sphere's logarithm at unit `a`: the tangent vector at `a` along the great-circle arc to
+/// unit `b`, as long as the arc (≤ π). The arc's direction is chosen as [`ArcFrame`] chooses it.
+pub(super) fn log_map(a: DVec3, b: DVec3) -> DVec3 {
+    let (d, s) = (b - a, a + b);
+    let (d2, s2) = (d.length_squared(), s.length_squared());
+    let theta = 2.0 * d2.sqrt().atan2(s2.sqrt());
+    let p = if d2 <= s2 { d - a * a.dot(d) } else { s - a * a.dot(s) };
+    let u = p.try_normalize().unwrap_or_else(|| perpendicular(a.as_vec3()).as_dvec3());
+    u * theta
+}
+
+/// The deterministic unit vector ⟂ `a` used when `a` and `b` span no plane (equal or exactly
+/// opposite): the one [`crate::slerp::slerp`] uses, `a.any_orthonormal_vector()` (Duff et al.
+/// 2017, written with `copysign`, which equals glam's `signum` for every non-NaN input),
+/// re-orthogonalised for an `a` that is unit only to f32 precision. Branch-free.
+#[inline(always)]
+pub(super) fn perpendicular(a: Vec3) -> Vec3 {
+    let sign = 1.0f32.copysign(a.z);
+    let k = -1.0 / (sign + a.z);
+    let q = Vec3::new(a.x * a.y * k, sign + a.y * a.y * k, -a.y);
+    let q = q - a * a.dot(q);
+    q * (1.0 / q.dot(q).sqrt())
+}
+
+/// `if c { x } else { y }` on values already computed: LLVM makes it a SIMD blend. (A select
+/// between two *loads* would become a load through a selected pointer, which does not
+/// vectorise; every select below picks between computed values.)
+#[inline(always)]
+fn select(c: bool, x: f32, y: f32) -> f32 {
+    if c { x } else { y }
+}
+
+#[inline(always)]
+fn select3(c: bool, x: Vec3, y: Vec3) -> Vec3 {
+    Vec3::new(select(c, x.x, y.x), select(c, x.y, y.y), select(c, x.z, y.z))
+}
+
+/// The great circle from unit `a` to unit `b`, as an orthonormal frame: `u` ⟂ `a` in the plane of
+/// `a` and `b` (towards `b`), `w` = a × u its normal, `theta` the arc length, and `u_end` the
+/// circle's unit tangent at `b` (= u cos θ − a sin θ).
+pub(super) struct ArcFrame {
+    pub u: Vec3,
+    pub w: Vec3,
+    pub theta: f32,
+    pub u_end: Vec3,
+}
+
+impl ArcFrame {
+    #[inline(always)]
+    pub fn new(a: Vec3, b: Vec3) -> Self {
+        let (d, s) = (b - a, a + b);
+        let (d2, s2) = (d.dot(d), s.dot(s));
+        let (dl, sl) = (d2.sqrt(), s2.sqrt());
+        let theta = 2.0 * half_angle(dl, sl);
+        // b − a(a·b) from the shorter of d = b − a and s = a + b (no cancellation near 0 or π),
+        // as slerp does: d − a(a·d) = s − a(a·s).
+        let shorter = select3(d2 <= s2, d, s);
+        let p = shorter - a * a.dot(shorter);
+        let p2 = p.dot(p);
+        // Equal or exactly opposite: no plane; the deterministic perpendicular (computed for
+        // every pixel, so that the loop has no branch).
+        let spans = p2 > 1e-30;
+        let u = select3(spans, p * (1.0 / select(spans, p2, 1.0).sqrt()), perpendicular(a));
+        let w = a.cross(u);
+        // cos θ and sin θ without trigonometry: |d| = 2 sin(θ/2), |s| = 2 cos(θ/2) and
+        // |d|² + |s|² = 4 (for unit a, b; dividing by the sum keeps the pair unit regardless).
+        let inv_sum = 1.0 / (s2 + d2);
+        let (cos, sin) = ((s2 - d2) * inv_sum, 2.0 * dl * sl * inv_sum);
+        Self { u, w, theta, u_end: u * cos - a * sin }
+    }
+}
+
+/// The smooth (C1) ray between keys `a` and `b` with tangents `ma` and `mb` (velocities per
+/// frame; zero at the end keys) and the frame's Hermite weights. Branch-free, so that a row of
+/// pixels vectorises (see [`smooth_row`]).
+///
+/// Origins: the cubic Hermite curve. Directions: the same cubic Hermite curve in the spherical
+/// coordinates (φ, ψ) of the great circle from `a` to `b` (φ along it from `a`, ψ across it),
+/// n(φ, ψ) = cos ψ·(a cos φ + u sin φ) + w sin ψ, with φ running 0 → θ and ψ 0 → 0, and the end
+/// derivatives the key tangents written in that chart's orthonormal bases ({u, w} at `a`,
+/// {u_end, w} at `b`).
+#[inline(always)]
+pub(super) fn smooth(a: &StoredRay, b: &StoredRay, ma: &StoredRay, mb: &StoredRay, h: Hermite) -> StoredRay {
+    let origin = a.origin + (b.origin - a.origin) * h.h01 + ma.origin * h.c0 + mb.origin * h.c1;
+    let da = a.direction;
+    let f = ArcFrame::new(da, b.direction);
+    let (va, vb) = (ma.direction, mb.direction);
+    let phi = f.theta * h.h01 + va.dot(f.u) * h.c0 + vb.dot(f.u_end) * h.c1;
+    let psi = va.dot(f.w) * h.c0 + vb.dot(f.w) * h.c1;
+    let (sin_phi, cos_phi) = sin_cos(phi);
+    let (sin_psi, cos_psi) = sin_cos(psi);
+    let n = (da * cos_phi + f.u * sin_phi) * cos_psi + f.w * sin_psi;
+    // n is unit by construction (a, u, w orthonormal); normalising only removes rounding (and
+    // the ≤ 1e-4 non-unit slack a stored key may have), so every output is unit to f32
+    // precision. A non-finite n cannot arise from finite keys; falling back to `a` is belt and
+    // braces.
+    let n2 = n.dot(n);
+    let good = n2 > 1e-30 && n2 < f32::INFINITY;
+    StoredRay { origin, direction: select3(good, n * (1.0 / select(good, n2, 1.0).sqrt()), da) }
+}
+
+/// [`smooth`] over a row (all slices as long as `out`). The loop vectorises (SSE2, or AVX2
+/// where the CPU has it: chosen at run time). Both are the same IEEE operations lane by lane —
+/// no FMA is enabled, and Rust never contracts `a * b + c` — so a pixel's bits do not depend
+/// on the CPU features, its position in the row, or the thread that computes it.
+pub(super) fn smooth_row(
+    a: &[StoredRay],
+    b: &[StoredRay],
+    ma: &[StoredRay],
+    mb: &[StoredRay],
+    h: Hermite,
+    out: &mut [StoredRay],
+) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2 (checked just above).
+        unsafe { smooth_row_avx2(a, b, ma, mb, h, out) };
+        return;
+    }
+    smooth_row_baseline(a, b, ma, mb, h, out);
+}
+
+#[inline(always)]
+fn smooth_row_body(
+    a: &[StoredRay],
+    b: &[StoredRay],
+    ma: &[StoredRay],
+    mb: &[StoredRay],
+    h: Hermite,
+    out: &mut [StoredRay],
+) {
+    for ((((o, a), b), ma), mb) in out.iter_mut().zip(a).zip(b).zip(ma).zip(mb) {
+        *o = smooth(a, b, ma, mb, h);
+    }
+}
+
+pub(super) fn smooth_row_baseline(
+    a: &[StoredRay],
+    b: &[StoredRay],
+    ma: &[StoredRay],
+    mb: &[StoredRay],
+    h: Hermite,
+    out: &mut [StoredRay],
+) {
+    smooth_row_body(a, b, ma, mb, h, out);
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+pub(super) fn smooth_row_avx2(
+    a: &[StoredRay],
+    b: &[StoredRay],
+    ma: &[StoredRay],
+    mb: &[StoredRay],
+    h: Hermite,
+    out: &mut [StoredRay],
+) {
+    smooth_row_body(a, b, ma, mb, h, out);
+}
+
+/// atan2(y, x) for y, x ≥ 0, not both 0: the half angle between unit vectors whose difference
+/// and sum have lengths y and x. Cephes' `atanf` reduction and polynomial (error under 2e-7),
+/// branch-free: atan(lo/hi), reduced by atan(z) = π/4 + atan((z − 1)/(z + 1)) above tan(π/8),
+/// and π/2 − atan when y > x.
+#[inline(always)]
+pub(super) fn half_angle(y: f32, x: f32) -> f32 {
+    use std::f32::consts::{FRAC_PI_2, FRAC_PI_4};
+    let swap = y > x;
+    let (lo, hi) = (select(swap, x, y), select(swap, y, x));
+    let big = lo > 0.414_213_57 * hi;
+    let z = select(big, lo - hi, lo) / select(big, lo + hi, hi);
+    let z2 = z * z;
+    let poly = ((0.080_537_446 * z2 - 0.138_776_85) * z2 + 0.199_777_11) * z2 - 0.333_329_5;
+    let atan = select(big, FRAC_PI_4, 0.0) + (poly * z2 * z + z);
+    select(swap, FRAC_PI_2 - atan, atan)
+}
+
+/// sin and cos of `x` (|x| ≲ 10⁴), Cephes' `sinf`/`cosf`: x is reduced by the nearest multiple of
+/// π/2 (a three-part Cody–Waite π/2), then minimax polynomials on [−π/4, π/4]; absolute error
+/// under 2.5e-7 on the in-betweener's range (|x| < 2π). Branch-free, no libm call (std's
+/// `sin_cos` is two libm calls and does not vectorise).
+#[inline(always)]
+pub(super) fn sin_cos(x: f32) -> (f32, f32) {
+    const FRAC_2_PI: f32 = std::f32::consts::FRAC_2_PI;
+    const DP1: f32 = 1.570_312_5;
+    const DP2: f32 = 4.837_513e-4;
+    const DP3: f32 = 7.549_79e-8;
+    // Nearest quadrant by truncating x·2/π ± ½, clamped first so that the conversion is in
+    // range (`max`/`min` return the non-NaN operand: a NaN clamps too, and stays NaN in `y`;
+    // `clamp` would pass the NaN on to the conversion).
+    #[allow(clippy::manual_clamp)]
+    let v = (x * FRAC_2_PI + 0.5f32.copysign(x)).max(-1e6).min(1e6);
+    // SAFETY: v is finite and within ±1e6.
+    let q = unsafe { v.to_int_unchecked::<i32>() };
+    let j = q as f32;
+    let y = ((x - j * DP1) - j * DP2) - j * DP3;
+    let z = y * y;
+    let s = ((-1.951_529_6e-4 * z + 8.332_161e-3) * z - 1.666_665_5e-1) * z * y + y;
+    let c = ((2.443_315_7e-5 * z - 1.388_731_6e-3) * z + 4.166_664_6e-2) * z * z - 0.5 * z + 1.0;
+    // Quadrant q: (s, c), (c, −s), (−s, −c), (−c, s): swap on odd q, then negate both if q & 2.
+    let odd = q & 1 != 0;
+    let flip = ((q & 2) as u32) << 30;
+    (f32::from_bits(select(odd, c, s).to_bits() ^ flip), f32::from_bits(select(odd, -s, c).to_bits() ^ flip))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fast_trigonometry_is_accurate() {
+        let mut worst = (0.0f64, 0.0f64);
+        let mut x = -12.0f64;
+        while x <= 12.0 {
+            let (s, c) = sin_cos(x as f32);
+            let xf = x as f32 as f64;
+            worst.0 = worst.0.max((s as f64 - xf.sin()).abs());
+            worst.0 = worst.0.max((c as f64 - xf.cos()).abs());
+            x += 1e-4;
+        }
+        assert!(worst.0 < 2.5e-7, "sin_cos error {}", worst.0);
+        for k in 0..=20000 {
+            let theta = std::f64::consts::PI * k as f64 / 20000.0;
+            let (y, x) = ((theta / 2.0).sin() as f32, (theta / 2.0).cos() as f32);
+            let want = (y as f64).atan2(x as f64);
+            worst.1 = worst.1.max((half_angle(y, x) as f64 - want).abs());
+        }
+        assert!(worst.1 < 2e-7, "half_angle error {}", worst.1);
+        assert_eq!(sin_cos(0.0), (0.0, 1.0));
+        assert!(sin_cos(f32::NAN).0.is_nan());
+    }
+
+    #[test]
+    fn arc_frame_is_orthonormal_and_reaches_the_end() {
+        let a = Vec3::new(0.3, -0.4, 0.866_025_4).normalize();
+        let near = |v: Vec3| (v + a.any_orthonormal_vector() * 1e-6).normalize();
+        for b in [a, -a, Vec3::X, (-a + Vec3::new(1e-4, 0.0, 0.0)).normalize(), near(a), near(-a)] {
+            let f = ArcFrame::new(a, b);
+            for (x, y) in [(a, f.u), (a, f.w), (f.u, f.w), (b, f.u_end), (b, f.w)] {
+                assert!(x.dot(y).abs() < 1e-6, "{x} · {y}");
+            }
+            for e in [f.u, f.w, f.u_end] {
+                assert!((e.length() - 1.0).abs() < 1e-6);
+            }
+            let (s, c) = sin_cos(f.theta);
+            assert!((a * c + f.u * s - b).length() < 1e-6, "{b}");
+        }
+        // Exactly opposite and equal keys use slerp's perpendicular.
+        let want = a.any_orthonormal_vector();
+        assert!((ArcFrame::new(a, -a).u - want).length() < 1e-6);
+        assert!((ArcFrame::new(a, a).u - want).length() < 1e-6);
+        for z in [0.0f32, -0.0, 1.0, -1.0] {
+            let v = Vec3::new(0.6, 0.0, 0.8 * z.signum()).normalize();
+            assert!((perpendicular(v) - v.any_orthonormal_vector()).length() < 1e-6);
+        }
+    }
+
+    #[test]
+    fn the_vector_paths_give_the_same_bits_as_one_pixel_at_a_time() {
+        use crate::test_util::Rng;
+        let mut rng = Rng::new(21);
+        let mut ray = |s: f32| StoredRay::new(rng.direction() * s, rng.direction());
+        let n = 203; // not a multiple of any vector width: covers the scalar epilogue
+        let (a, b): (Vec<_>, Vec<_>) = (0..n).map(|_| (ray(5.0), ray(5.0))).unzip();
+        let (ma, mb): (Vec<_>, Vec<_>) = (0..n).map(|_| (ray(0.02), ray(0.02))).unzip();
+        let mut b = b;
+        b[7].direction = -a[7].direction;
+        b[8].direction = a[8].direction;
+        let h = Hermite::new(0.37, 120.0);
+        let bits = |r: &[StoredRay]| r.iter().map(|r| bytemuck::cast::<_, [u32; 6]>(*r)).collect::<Vec<_>>();
+        let one: Vec<StoredRay> =
+            (0..n).map(|i| std::hint::black_box(smooth(&a[i], &b[i], &ma[i], &mb[i], h))).collect();
+        let mut row = vec![StoredRay::default(); n];
+        smooth_row_baseline(&a, &b, &ma, &mb, h, &mut row);
+        assert_eq!(bits(&row), bits(&one), "baseline row");
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            let mut row = vec![StoredRay::default(); n];
+            // SAFETY: the CPU has AVX2.
+            unsafe { smooth_row_avx2(&a, &b, &ma, &mb, h, &mut row) };
+            assert_eq!(bits(&row), bits(&one), "AVX2 row");
+        }
+    }
+}
