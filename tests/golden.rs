@@ -1,0 +1,236 @@
+//! The golden-image regression suite (issue 6 item 1; shared NOTES.md, "Statistical golden
+//! tests"): every bundled scene and camera, each camera model, and an in-between MCC frame rendered
+//! through the lens reader, at small size and modest spp, each compared with its golden EXR in
+//! `tests/data/golden/` (converged mean + per-sample variance + spp, ZIP-compressed) by the
+//! per-pixel Šidák z-test and the image-level bias check (`common/golden.rs`). The MCC collage
+//! rerender's golden is checked by `tests/mcc_pipeline.rs` with the same machinery.
+//!
+//! Re-bless (prints how each golden changed; a name filter narrows it to some goldens):
+//!
+//! ```sh
+//! UPDATE_GOLDEN=1 cargo test --release -p mcctrace-suite --test golden -- --nocapture
+//! ```
+//!
+//! What would fail: any change of the expected image beyond noise — light transport, materials,
+//! textures, camera models, scene loading, the in-betweener or lens reader — as soon as it moves
+//! enough pixels or a channel's mean by 5 standard errors. Every test also proves its power: the
+//! same render made 2 % darker must fail against the same golden. NaN/Inf samples fail outright.
+
+mod common;
+
+use common::golden::{Sampled, assert_darker_fails, check_golden};
+use common::*;
+use glam::{UVec2, Vec3};
+use std::f32::consts::PI;
+use std::sync::{Arc, OnceLock};
+use tracer::camera::{CameraDesc, CameraSample, Projection};
+use tracer::integrator::{IntegratorConfig, PathTracer};
+use tracer::lens::LensChain;
+use tracer::scene::{CameraSelector, Scene};
+
+/// Cornell renders: 48² at 256 spp (590k samples) make a 2 % gain error a > 5σ shift of the mean.
+const CORNELL_SIZE: UVec2 = UVec2::new(48, 48);
+const CORNELL_SPP: u32 = 256;
+/// Café renders: 16:9 like its cameras.
+const CAFE_SIZE: UVec2 = UVec2::new(64, 36);
+const CAFE_SPP: u32 = 256;
+
+/// The Cornell glTF scene, prepared once per test binary.
+fn cornell() -> &'static (Scene, PathTracer) {
+    static CORNELL: OnceLock<(Scene, PathTracer)> = OnceLock::new();
+    CORNELL.get_or_init(|| {
+        let (scene, _) = cornell_gltf();
+        let tracer = PathTracer::new(&scene, cornell_config()).expect("prepare the Cornell box");
+        (scene, tracer)
+    })
+}
+
+/// The café (361k triangles): loaded and its BVH built once per test binary, not per camera.
+fn cafe() -> &'static (Scene, PathTracer) {
+    static CAFE: OnceLock<(Scene, PathTracer)> = OnceLock::new();
+    CAFE.get_or_init(|| {
+        timed("load and prepare the café", || {
+            let scene = Scene::load(&repo_root().join("scenes/cafe/cafe.gltf")).expect("load cafe.gltf");
+            let tracer = PathTracer::new(&scene, IntegratorConfig::DEFAULT).expect("prepare the café");
+            (scene, tracer)
+        })
+    })
+}
+
+/// A `render(spp, seed)` closure for `check_golden`: `camera` at `size` through `tracer`.
+fn plain<'a>(
+    tracer: &'a PathTracer,
+    camera: &'a CameraDesc,
+    size: UVec2,
+) -> impl Fn(u32, u32) -> Sampled + 'a {
+    move |spp, seed| {
+        let job = Job { resolution: size, spp, seed, config: cornell_config() };
+        Sampled::from_rendered(render_prepared(tracer, camera, &mut LensChain::new(), job), spp)
+    }
+}
+
+/// Checks golden `name` and that the same render 2 % darker fails.
+fn golden(name: &str, what: &str, spp: u32, render: impl Fn(u32, u32) -> Sampled) {
+    let (test, golden, _) = check_golden(name, what, spp, render);
+    assert_darker_fails(name, &test, &golden);
+}
+
+/// The camera list bundled with the OBJ Cornell box.
+fn cornell_camera_list() -> Vec<CameraDesc> {
+    tracer::scene::camera_list::load(&cornell_dir().join("cameras.json")).expect("load cameras.json")
+}
+
+#[test]
+fn cornell_gltf_camera() {
+    let (_, tracer) = cornell();
+    let (_, camera) = cornell_gltf();
+    golden(
+        "cornell-gltf",
+        "cornell.gltf, camera 'cornell'",
+        CORNELL_SPP,
+        plain(tracer, &camera, CORNELL_SIZE),
+    );
+}
+
+#[test]
+fn cornell_obj_corner_camera() {
+    // The OBJ directory (its own loader, MTL materials) through the second camera of the
+    // camera-list file, so both the format and the camera file are covered.
+    let (scene, _) = cornell_obj();
+    let tracer = PathTracer::new(&scene, cornell_config()).expect("prepare the OBJ box");
+    let camera = cornell_camera_list().into_iter().find(|c| c.name == "corner").expect("camera 'corner'");
+    golden(
+        "cornell-obj-corner",
+        "scenes/cornell OBJ, cameras.json 'corner'",
+        CORNELL_SPP,
+        plain(&tracer, &camera, CORNELL_SIZE),
+    );
+}
+
+/// Where the Cornell README's camera stands and looks.
+const EYE: Vec3 = Vec3::new(2.78, 2.73, -8.0);
+const TARGET: Vec3 = Vec3::new(2.78, 2.73, 0.0);
+/// The middle of the box (it spans 0 … 5.56 in x and z, 0 … 5.49 in y).
+const INSIDE: Vec3 = Vec3::new(2.78, 2.74, 2.8);
+
+#[test]
+fn cornell_orthographic() {
+    let (_, tracer) = cornell();
+    let camera = look_at(EYE, TARGET, Vec3::Y, Projection::Orthographic { half_height: 2.9 });
+    golden(
+        "cornell-orthographic",
+        "Cornell glTF, orthographic",
+        CORNELL_SPP,
+        plain(tracer, &camera, CORNELL_SIZE),
+    );
+}
+
+#[test]
+fn cornell_thin_lens() {
+    let (_, tracer) = cornell();
+    // Focused on the short box (8.7 … 10.7 from the eye), with an aperture wide enough to blur
+    // the back wall (13.6 away) by several pixels.
+    let projection =
+        Projection::ThinLens { fov_y: 39.3f32.to_radians(), lens_radius: 0.25, focus_distance: 9.5 };
+    let camera = look_at(EYE, TARGET, Vec3::Y, projection);
+    golden("cornell-thin-lens", "Cornell glTF, thin lens", CORNELL_SPP, plain(tracer, &camera, CORNELL_SIZE));
+}
+
+#[test]
+fn cornell_fisheye() {
+    let (_, tracer) = cornell();
+    // From just inside the open front, 180° across: the whole box, and dropped samples (black)
+    // outside the image circle.
+    let camera = look_at(
+        Vec3::new(2.78, 2.74, 0.3),
+        Vec3::new(2.78, 2.74, 5.0),
+        Vec3::Y,
+        Projection::Fisheye { fov: PI },
+    );
+    golden(
+        "cornell-fisheye",
+        "Cornell glTF, 180° fisheye",
+        CORNELL_SPP,
+        plain(tracer, &camera, CORNELL_SIZE),
+    );
+}
+
+#[test]
+fn cornell_equirectangular() {
+    let (_, tracer) = cornell();
+    let camera = look_at(INSIDE, INSIDE + Vec3::Z, Vec3::Y, Projection::Equirectangular);
+    golden(
+        "cornell-equirectangular",
+        "Cornell glTF, equirectangular from the middle of the box",
+        CORNELL_SPP,
+        plain(tracer, &camera, UVec2::new(64, 32)),
+    );
+}
+
+fn cafe_camera(name: &str) {
+    let (scene, tracer) = cafe();
+    let camera = scene.camera(&CameraSelector::Name(name.into())).expect("café camera").clone();
+    golden(
+        &format!("cafe-{name}"),
+        &format!("cafe.gltf, camera '{name}'"),
+        CAFE_SPP,
+        plain(tracer, &camera, CAFE_SIZE),
+    );
+}
+
+#[test]
+fn cafe_left() {
+    cafe_camera("left");
+}
+
+#[test]
+fn cafe_right() {
+    cafe_camera("right");
+}
+
+#[test]
+fn cafe_wide() {
+    cafe_camera("wide");
+}
+
+/// The rays a lens writer would record for `camera` at `size`: one per pixel centre.
+fn key_rays(camera: &CameraDesc, size: UVec2, frame: u32, id: u32) -> mcc::RayFile {
+    let built = camera.build(size).expect("build the key camera");
+    let rays = (0..size.y)
+        .flat_map(|j| (0..size.x).map(move |i| (i, j)))
+        .map(|(i, j)| {
+            let ray = built.generate_ray(&CameraSample::pixel_centre(i, j, 0.0)).expect("a pinhole ray");
+            mcc::StoredRay::new(ray.origin, ray.direction)
+        })
+        .collect();
+    mcc::RayFile::new(size.x, size.y, frame, id, rays).expect("key ray file")
+}
+
+#[test]
+fn inbetween_frame_through_the_lens_reader() {
+    // SPEC §7 and §6: keys at frames 0 (the 'cornell' camera) and 8 (the 'corner' camera of the
+    // camera list); frame 3 of the smooth in-between is rendered through the lens reader — the
+    // MCC rerender path, fed rays that no camera model produces.
+    let (scene, tracer) = cornell();
+    let size = CORNELL_SIZE;
+    let front = scene.camera(&CameraSelector::Name("cornell".into())).expect("camera 'cornell'");
+    let corner = cornell_camera_list().into_iter().find(|c| c.name == "corner").expect("camera 'corner'");
+    let keys =
+        mcc::Keys::new(vec![(0, key_rays(front, size, 0, 1)), (8, key_rays(&corner, size, 8, 2))], None)
+            .expect("keys");
+    let frame = Arc::new(keys.frame(3, mcc::InbetweenMode::Smooth));
+    // The lens reader replaces every ray: the camera only carries the film size.
+    let carrier = look_at(Vec3::ZERO, -Vec3::Z, Vec3::Y, Projection::Perspective { fov_y: 1.0 });
+    let render = |spp, seed| {
+        let mut lenses = LensChain::new();
+        lenses.push(Box::new(mcc::LensReader::new(mcc::lens_reader::RaySource::Rays(frame.clone()))));
+        let job = Job { resolution: size, spp, seed, config: cornell_config() };
+        Sampled::from_rendered(render_prepared(tracer, &carrier, &mut lenses, job), spp)
+    };
+    golden(
+        "cornell-inbetween-frame3",
+        "Cornell glTF, smooth in-between frame 3 of keys 0 and 8",
+        CORNELL_SPP,
+        render,
+    );
+}
