@@ -19,7 +19,7 @@ mod common;
 
 use common::*;
 use glam::UVec2;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use tracer::compare::StatTest;
 use tracer::integrator::PathTracer;
 use tracer::lens::LensChain;
@@ -82,12 +82,13 @@ fn another_seed_gives_another_image_of_the_same_scene() {
 }
 
 /// Counts the pixels each worker of a 2-thread pool finished, and holds worker `slow` after its
-/// first tile until the other worker has finished every other tile (stealing what `slow` had
-/// queued): one worker renders one tile, the other all the rest — a schedule chosen on purpose,
-/// not left to timing.
+/// first tile until the other worker has finished half the image (stealing what `slow` had
+/// queued; rayon's adaptive splitting leaves at most a quarter of the tiles in `slow`'s running
+/// chunk): the schedule is chosen on purpose, not left to timing.
 struct SkewedSchedule {
     slow: usize,
     total: u64,
+    held: AtomicBool,
     pixels_by_worker: [AtomicU64; 2],
 }
 
@@ -95,10 +96,10 @@ impl Progress for SkewedSchedule {
     fn advance(&self, pixels: u64) {
         let worker = rayon::current_thread_index().expect("called on a pool worker");
         self.pixels_by_worker[worker].fetch_add(pixels, Ordering::SeqCst);
-        if worker == self.slow {
+        if worker == self.slow && !self.held.swap(true, Ordering::SeqCst) {
             let start = std::time::Instant::now();
             // The time limit only guards against a hang if the renderer ever stopped stealing.
-            while self.pixels_by_worker.iter().map(|a| a.load(Ordering::SeqCst)).sum::<u64>() < self.total
+            while 2 * self.pixels_by_worker[1 - worker].load(Ordering::SeqCst) < self.total
                 && start.elapsed().as_secs() < 60
             {
                 std::thread::sleep(std::time::Duration::from_millis(1));
@@ -117,6 +118,7 @@ fn tile_schedule_does_not_change_a_single_bit() {
         let schedule = SkewedSchedule {
             slow,
             total: (SIZE * SIZE) as u64,
+            held: AtomicBool::new(false),
             pixels_by_worker: [AtomicU64::new(0), AtomicU64::new(0)],
         };
         let r = with_threads(2, || {
@@ -127,9 +129,12 @@ fn tile_schedule_does_not_change_a_single_bit() {
     let (a, by_worker_a) = run(0);
     let (b, by_worker_b) = run(1);
     println!("pixels per worker: worker 0 slowed {by_worker_a:?}, worker 1 slowed {by_worker_b:?}");
-    // The held worker rendered at most one 16² tile each time: the two runs took the tiles in
+    // The held worker rendered the smaller share each time: the two runs took the tiles in
     // different orders on different threads.
-    assert!(by_worker_a[0] <= 256 && by_worker_b[1] <= 256, "the schedule was not the one forced");
+    assert!(
+        by_worker_a[0] < by_worker_a[1] && by_worker_b[1] < by_worker_b[0],
+        "the schedule was not forced"
+    );
     assert!(a.images.image == b.images.image, "image depends on the tile schedule");
     assert!(a.images.variance == b.images.variance, "variance depends on the tile schedule");
     assert!(

@@ -137,8 +137,13 @@ pub fn check_golden(
         100.0 * detectable_bias(&test, &golden)
     );
     if std::env::var_os("MCCTRACE_TEST_OUTPUT").is_some() {
-        super::maybe_save(&format!("golden-{name}-test"), &test.mean);
-        super::maybe_save(&format!("golden-{name}-golden"), &golden.mean);
+        // EXRs and sRGB previews of both, for a person to look at.
+        for (which, image) in [("test", &test.mean), ("golden", &golden.mean)] {
+            let stem = format!("golden-{name}-{which}");
+            super::maybe_save(&stem, image);
+            let png = super::repo_root().join("target/test-output").join(format!("{stem}.png"));
+            tracer::image_io::write_png_srgb(&png, image).expect("write the preview");
+        }
     }
     assert!(report.passed(), "{name} ({what}) no longer matches its golden {}:\n{report}", path.display());
     (test, golden, report)
