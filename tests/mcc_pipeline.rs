@@ -5,15 +5,19 @@
 //! - A collage that is entirely camera 1 gives back exactly camera 1's rays at every pixel
 //!   centre, and its rerender equals a plain render of camera 1 statistically (an independent
 //!   path: no MCC at all).
-//! - A mixed collage rerenders like its golden EXR (`tests/data/golden/`), checked by NOTES.md's
-//!   statistical test with the golden's per-sample variance. `UPDATE_GOLDEN=1 cargo test
-//!   --release --test mcc_pipeline` re-renders the golden (4096 spp) and prints how it changed.
+//! - A mixed collage rerenders like its golden EXR (`tests/data/golden/`), checked by the golden
+//!   suite's machinery (`common/golden.rs`: NOTES.md's statistical test on both images'
+//!   per-sample variances). `UPDATE_GOLDEN=1 cargo test --release -p mcctrace-suite --test
+//!   mcc_pipeline mixed` re-renders the golden and prints how it changed.
 //! - Malformed inputs give errors naming the file, and leave no output behind.
 
+mod common;
+
+use common::golden::{Sampled, assert_darker_fails, check_golden};
 use std::path::{Path, PathBuf};
-use tracer::compare::{Estimate, StatTest, rel_mse};
+use tracer::compare::{Estimate, StatTest};
 use tracer::image::RgbImage;
-use tracer::image_io::{Aov, read_exr, write_exr};
+use tracer::image_io::read_exr;
 
 const CORNELL: &str = "scenes/cornell/cornell.gltf";
 // 96² at 128 spp: enough samples that a 2 % bias shows (image-level z ≈ 7 > 5).
@@ -175,43 +179,17 @@ fn mixed_collage_matches_its_golden() {
     render_views(&dir);
     let mask = dir.path("mask.png");
     write_mask(&mask, 36, 24);
-    let golden_path = Path::new("tests/data/golden/mcc-cornell-collage.exr");
-    if std::env::var_os("UPDATE_GOLDEN").is_some() {
-        let (mean, variance) = rerender(&dir, &mask, 4096, 1, "golden");
-        match read_exr(golden_path) {
-            Ok(old) if (old.rgb.width, old.rgb.height) == (mean.width, mean.height) => {
-                println!(
-                    "re-blessing {}: relMSE old vs new {:.3e}",
-                    golden_path.display(),
-                    rel_mse(&old.rgb, &mean)
-                )
-            }
-            Ok(old) => println!(
-                "re-blessing {}: size {}x{} -> {SIZE}x{SIZE}",
-                golden_path.display(),
-                old.rgb.width,
-                old.rgb.height
-            ),
-            Err(_) => println!("blessing {}", golden_path.display()),
-        }
-        std::fs::create_dir_all(golden_path.parent().unwrap()).unwrap();
-        let meta =
-            [("mcctrace/spp", "4096".to_string()), ("mcctrace/what", "mcc_pipeline golden".to_string())];
-        write_exr(golden_path, &mean, &[Aov::Rgb { name: "variance", image: &variance }], &meta).unwrap();
-    }
-    // The golden is rendered with another seed, so the test's samples are not a prefix of it.
-    let golden = read_exr(golden_path).expect("golden missing: run with UPDATE_GOLDEN=1");
-    let golden_variance = golden.rgb_layer("variance").unwrap();
-    let (mean, _) = rerender(&dir, &mask, 128, 0, "test");
-    let report = StatTest::default()
-        .against_reference(Estimate { mean: &mean, variance: golden_variance, samples: 128 }, &golden.rgb);
-    println!("{report}");
-    assert!(report.passed(), "{report}");
+    let render = |spp, seed| {
+        let (mean, variance) = rerender(&dir, &mask, spp, seed, &format!("{spp}spp"));
+        // The CLI's EXR does not carry the NaN/Inf sample count (the film records such samples
+        // as black); non-finite pixels would still fail the comparison.
+        Sampled { mean, variance, spp, nonfinite_samples: 0 }
+    };
+    let name = "mcc-cornell-collage";
+    let (test, golden, _) =
+        check_golden(name, "mcc_pipeline: mixed collage of two Cornell views", 128, render);
     // The same check fails for an image 2 % too dark: it can fail.
-    let darker = RgbImage { pixels: mean.pixels.iter().map(|p| *p * 0.98).collect(), ..mean.clone() };
-    let biased = StatTest::default()
-        .against_reference(Estimate { mean: &darker, variance: golden_variance, samples: 128 }, &golden.rgb);
-    assert!(!biased.passed(), "a 2 % darker image must fail:\n{biased}");
+    assert_darker_fails(name, &test, &golden);
 }
 
 #[test]

@@ -3,6 +3,8 @@
 //! planes), a seeded random generator, and small image utilities. Each test file uses a subset.
 #![allow(dead_code)]
 
+pub mod golden;
+
 use glam::{UVec2, Vec2, Vec3};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
