@@ -35,9 +35,13 @@ const WHAT_KEY: &str = "mcctrace/what";
 /// many samples came out NaN/Inf.
 #[derive(Clone, Debug)]
 pub struct Sampled {
+    /// Per-pixel mean (the image).
     pub mean: RgbImage,
+    /// Per-pixel per-sample variance (not divided by `spp`).
     pub variance: RgbImage,
+    /// Samples per pixel.
     pub spp: u32,
+    /// Samples that came out NaN/Inf (the film records them as black).
     pub nonfinite_samples: u64,
 }
 
