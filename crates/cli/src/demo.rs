@@ -23,12 +23,14 @@ pub struct DemoArgs {
     /// Output folder (default out/demo, or out/demo-animation with --animation).
     #[arg(long)]
     pub(crate) out: Option<PathBuf>,
-    /// Samples per pixel of every render (with --animation: of the key frames' source views).
-    #[arg(long, default_value_t = 32)]
-    pub(crate) spp: u32,
-    /// Resolution of the views and of the final picture (the bundled mask is 480x270).
-    #[arg(long, default_value = "480x270", value_name = "WxH")]
-    pub(crate) res: Resolution,
+    /// Samples per pixel of every render (default 32; with --animation: of the key frames'
+    /// source views, default 8).
+    #[arg(long)]
+    pub(crate) spp: Option<u32>,
+    /// Resolution of the views and of the final picture (default 480x270, the bundled mask's;
+    /// with --animation: of the key frames' source views, default 240x135).
+    #[arg(long, value_name = "WxH")]
+    pub(crate) res: Option<Resolution>,
     /// Render threads (default: all cores).
     #[arg(long)]
     pub(crate) threads: Option<usize>,
@@ -46,7 +48,7 @@ pub struct DemoArgs {
     #[arg(long, default_value = "160x90", value_name = "WxH")]
     pub(crate) frame_res: Resolution,
     /// With --animation: samples per pixel of the animated frames.
-    #[arg(long, default_value_t = 16)]
+    #[arg(long, default_value_t = 8)]
     pub(crate) frame_spp: u32,
 }
 
@@ -149,7 +151,8 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
     let out = &a.out.clone().unwrap_or_else(|| PathBuf::from("out/demo"));
     let views_dir = out.join("views");
     std::fs::create_dir_all(&views_dir).with_context(|| format!("creating {}", views_dir.display()))?;
-    let q = quality(a.spp, a.res, a.threads, a.quiet);
+    let res = a.res.unwrap_or(Resolution(glam::UVec2::new(480, 270)));
+    let q = quality(a.spp.unwrap_or(32), res, a.threads, a.quiet);
     let mut pictures: Vec<(String, PathBuf)> = Vec::new();
 
     // 1. The two source views, facing each other across the table: EXR, tagged PNG, rays.
@@ -190,7 +193,7 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
 
     // 4. Rerender through the collage's rays.
     let final_exr = out.join("final.exr");
-    let final_png = render_with_rays(&scene_path, remapped.rays, Some(a.res), 0, &final_exr, &q, 0, 24.0)?;
+    let final_png = render_with_rays(&scene_path, remapped.rays, Some(res), 0, &final_exr, &q, 0, 24.0)?;
     pictures.push(("final rerender".into(), final_png));
 
     println!(

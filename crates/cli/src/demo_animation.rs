@@ -6,7 +6,7 @@
 //! cut by a mask generated here.
 
 use crate::animate::{AnimateArgs, PreviewArg, animate};
-use crate::args::FrameRange;
+use crate::args::{FrameRange, Resolution};
 use crate::collage::default_labels;
 use crate::demo::{DemoArgs, DemoCamera, DemoView, quality, render_tagged_views, scenes_dir};
 use crate::inbetween::{InbetweenOutputArgs, ModeArg, write_inbetweens};
@@ -42,6 +42,28 @@ fn write_second_mask(path: &Path, size: UVec2) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// Writes the 8-bit label image `src` at `size` into `dst`, by nearest neighbour (every output
+/// pixel copies the input pixel under its centre, so no new colours appear).
+fn resize_labels(src: &Path, size: UVec2, dst: &Path) -> anyhow::Result<()> {
+    let png = tracer::image_io::read_png8(src)?;
+    let c = png.channels as usize;
+    if c < 3 {
+        bail!("{}: expected an RGB or RGBA label image", src.display());
+    }
+    let (w, h) = (size.x as usize, size.y as usize);
+    let mut rgb = Vec::with_capacity(w * h * 3);
+    for y in 0..h {
+        let sy = ((y as u64 * 2 + 1) * png.height as u64 / (2 * h as u64)) as usize;
+        for x in 0..w {
+            let sx = ((x as u64 * 2 + 1) * png.width as u64 / (2 * w as u64)) as usize;
+            let at = (sy * png.width as usize + sx) * c;
+            rgb.extend_from_slice(&png.pixels[at..at + 3]);
+        }
+    }
+    tracer::image_io::write_png_rgb8(dst, size.x, size.y, &rgb)?;
+    Ok(())
+}
+
 pub fn run(a: DemoArgs) -> anyhow::Result<()> {
     let start = Instant::now();
     if a.frames < 2 {
@@ -52,7 +74,8 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
     let scene_path = cafe.join("cafe.gltf");
     let views_dir = out.join("views");
     std::fs::create_dir_all(&views_dir).with_context(|| format!("creating {}", views_dir.display()))?;
-    let q = quality(a.spp, a.res, a.threads, a.quiet);
+    let res = a.res.unwrap_or(Resolution(UVec2::new(240, 135)));
+    let q = quality(a.spp.unwrap_or(8), res, a.threads, a.quiet);
     let code = mcc::TagCode::default();
     let (first, last) = (0, a.frames - 1);
     let mut pictures: Vec<(String, PathBuf)> = Vec::new();
@@ -65,11 +88,13 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
     pictures.extend(render_tagged_views(&scene_path, &key0_views, first, &views_dir, &q, code)?);
     let map = mcc::compose::LabelMap::Colours(default_labels());
     let collage0 = out.join(format!("key{first:04}-collage.png"));
-    mcc::compose::compose_files(&cafe.join("collage-mask.png"), &map, &views_dir, first, &collage0)?;
+    // The bundled label and region images are 480x270: brought to the views' size by nearest
+    // neighbour, which keeps every label colour exact.
+    let mask0 = out.join(format!("key{first:04}-mask.png"));
+    resize_labels(&cafe.join("collage-mask.png"), res.0, &mask0)?;
+    mcc::compose::compose_files(&mask0, &map, &views_dir, first, &collage0)?;
     let regions0 = out.join(format!("key{first:04}-collage-regions.png"));
-    let bundled_regions = cafe.join("collage-mask-regions.png");
-    std::fs::copy(&bundled_regions, &regions0)
-        .with_context(|| format!("copying {}", bundled_regions.display()))?;
+    resize_labels(&cafe.join("collage-mask-regions.png"), res.0, &regions0)?;
     pictures.push((format!("key {first} collage"), collage0.clone()));
 
     // 2. The last key: other cameras entirely (the room from its far corner, and the couple
@@ -80,15 +105,15 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
             id: 2,
             camera: DemoCamera::LookAt {
                 name: "window",
-                from: Vec3::new(2.2, 1.5, 0.9),
-                at: Vec3::new(0.15, 0.95, -0.35),
+                from: Vec3::new(0.6, 1.45, 1.7),
+                at: Vec3::new(0.1, 1.0, -0.4),
                 fov_degrees: 45.0,
             },
         },
     ];
     pictures.extend(render_tagged_views(&scene_path, &key1_views, last, &views_dir, &q, code)?);
     let mask1 = out.join(format!("key{last:04}-mask.png"));
-    write_second_mask(&mask1, a.res.0)?;
+    write_second_mask(&mask1, res.0)?;
     let collage1 = out.join(format!("key{last:04}-collage.png"));
     mcc::compose::compose_files(&mask1, &map, &views_dir, last, &collage1)?;
     pictures.push((format!("key {last} collage"), collage1.clone()));
