@@ -626,6 +626,15 @@ fn scene_time_poses_animated_meshes_and_cameras_at_frame_over_fps() {
     // not frame 24 at 24 fps.
     assert_eq!(images[4].pixels, images[1].pixels);
     assert_ne!(images[4].pixels, images[2].pixels);
+    // A frame rate that is not a positive number is refused.
+    let q = quad.display().to_string();
+    for fps in ["0", "-24", "nan"] {
+        let out = dir.s("bad.exr");
+        let flag = format!("--fps={fps}");
+        let err = mcctrace(&["render", &q, &flag, "--res", "8x8", "--spp", "1", "--quiet", "--out", &out]);
+        let message = format!("{:#}", err.unwrap_err());
+        assert!(message.contains("frame rate"), "{fps}: {message}");
+    }
     // Past the last key the pose holds (glTF clamps).
     let c = centroid_x(&render_frame(&quad, &dir.path("late.exr"), 48, "24"));
     assert!((c - 24.0).abs() < 0.1, "2 s holds the 1 s pose: {c}");
