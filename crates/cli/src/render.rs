@@ -74,7 +74,7 @@ pub struct QualityArgs {
     /// Samples per pixel (1 … 65536).
     #[arg(long, default_value_t = 64)]
     pub spp: u32,
-    /// Output resolution (default 640x360; for `rerender`, the ray file's).
+    /// Output resolution (default 640x360; for `rerender` and `animate`, the ray file's).
     #[arg(long, value_name = "WxH")]
     pub res: Option<Resolution>,
     /// Seed of the sample sequence: the same seed gives the same image bit for bit.
