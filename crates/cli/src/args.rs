@@ -1,6 +1,9 @@
-//! Value parsers for command-line arguments: vectors, colours and resolutions.
+//! Value parsers for command-line arguments: vectors, colours, resolutions, frame ranges,
+//! shutter intervals and keys.
 
 use glam::{UVec2, Vec3};
+use std::ops::RangeInclusive;
+use std::path::PathBuf;
 use std::str::FromStr;
 
 /// A 3-vector written `x,y,z`.
@@ -50,6 +53,114 @@ impl std::fmt::Display for Resolution {
     }
 }
 
+/// An inclusive range of frames written `A..=B` (or `A..B`, excluding B, or one frame `A`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct FrameRange {
+    /// The first frame.
+    pub first: u32,
+    /// The last frame (inclusive).
+    pub last: u32,
+}
+
+impl FrameRange {
+    /// The frames as a range.
+    pub fn range(self) -> RangeInclusive<u32> {
+        self.first..=self.last
+    }
+
+    /// How many frames the range holds.
+    pub fn len(self) -> u64 {
+        (self.last - self.first) as u64 + 1
+    }
+}
+
+impl FromStr for FrameRange {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        let frame = |v: &str| {
+            v.trim().parse::<u32>().map_err(|_| format!("'{v}' in '{s}' is not a frame number (0, 1, 2 …)"))
+        };
+        let (first, last) = if let Some((a, b)) = s.split_once("..=") {
+            (frame(a)?, frame(b)?)
+        } else if let Some((a, b)) = s.split_once("..") {
+            let (a, b) = (frame(a)?, frame(b)?);
+            if b <= a {
+                return Err(format!("'{s}' holds no frame (the end of A..B is excluded; A..=B includes it)"));
+            }
+            (a, b - 1)
+        } else {
+            let f = frame(s)?;
+            (f, f)
+        };
+        if last < first {
+            return Err(format!("'{s}' runs backwards: give FIRST..=LAST with FIRST ≤ LAST"));
+        }
+        Ok(Self { first, last })
+    }
+}
+
+impl std::fmt::Display for FrameRange {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}..={}", self.first, self.last)
+    }
+}
+
+/// A shutter interval `OPEN..CLOSE` in fractions of a frame (like 0..0.5), 0 ≤ OPEN ≤ CLOSE ≤ 1.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Shutter {
+    /// When the shutter opens, after the frame's start.
+    pub open: f32,
+    /// When it closes.
+    pub close: f32,
+}
+
+impl FromStr for Shutter {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        let (a, b) = s.split_once("..").ok_or_else(|| format!("'{s}' is not OPEN..CLOSE (like 0..0.5)"))?;
+        let b = b.strip_prefix('=').unwrap_or(b);
+        let num = |v: &str| v.trim().parse::<f32>().map_err(|_| format!("'{v}' in '{s}' is not a number"));
+        let (open, close) = (num(a)?, num(b)?);
+        // Beyond one frame the lens reader would need frames past f + 1, which it does not read.
+        if !(0.0..=1.0).contains(&open) || !(0.0..=1.0).contains(&close) || open > close {
+            return Err(format!(
+                "shutter '{s}': need 0 ≤ OPEN ≤ CLOSE ≤ 1 (fractions of a frame; the lens reader blends \
+                 frames f and f+1 only)"
+            ));
+        }
+        Ok(Self { open, close })
+    }
+}
+
+/// A key `F=FILE`: a frame number and a file (the rest of the text after `=`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct KeyArg {
+    /// The key's frame.
+    pub frame: u32,
+    /// Everything after `=`.
+    pub value: String,
+}
+
+impl FromStr for KeyArg {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        let (f, v) =
+            s.split_once('=').ok_or_else(|| format!("'{s}' is not FRAME=FILE (like 150=key.mcr)"))?;
+        let frame = f.trim().parse::<u32>().map_err(|_| format!("'{f}' in '{s}' is not a frame number"))?;
+        if v.is_empty() {
+            return Err(format!("'{s}' names no file after '='"));
+        }
+        Ok(Self { frame, value: v.to_owned() })
+    }
+}
+
+impl KeyArg {
+    /// The value as a path.
+    pub fn path(&self) -> PathBuf {
+        PathBuf::from(&self.value)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -63,5 +174,28 @@ mod tests {
         assert!("640".parse::<Resolution>().is_err());
         assert!("0x10".parse::<Resolution>().is_err());
         assert!("-5x10".parse::<Resolution>().is_err());
+    }
+
+    #[test]
+    fn frames_shutters_and_keys() {
+        let r = |s: &str| s.parse::<FrameRange>().map(|r| (r.first, r.last));
+        assert_eq!(r("0..=500"), Ok((0, 500)));
+        assert_eq!(r("3..7"), Ok((3, 6)));
+        assert_eq!(r("12"), Ok((12, 12)));
+        assert!(r("5..=2").is_err());
+        assert!(r("5..5").is_err());
+        assert!(r("a..=2").is_err());
+        assert!(r("-1..=2").is_err());
+        assert_eq!("0..0.5".parse::<Shutter>(), Ok(Shutter { open: 0.0, close: 0.5 }));
+        assert_eq!("0.25..=1".parse::<Shutter>(), Ok(Shutter { open: 0.25, close: 1.0 }));
+        assert!("0.5..0.25".parse::<Shutter>().is_err());
+        assert!("0..1.5".parse::<Shutter>().is_err());
+        assert!("0..nan".parse::<Shutter>().is_err());
+        assert!("0.5".parse::<Shutter>().is_err());
+        let k = "150=dir/a=b.mcr".parse::<KeyArg>().unwrap();
+        assert_eq!((k.frame, k.value.as_str()), (150, "dir/a=b.mcr"));
+        assert!("x=a.mcr".parse::<KeyArg>().is_err());
+        assert!("5=".parse::<KeyArg>().is_err());
+        assert!("a.mcr".parse::<KeyArg>().is_err());
     }
 }

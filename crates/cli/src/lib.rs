@@ -1,15 +1,21 @@
 //! The `mcctrace` command line (SPEC §8): parses arguments, reports progress and errors, and
 //! calls the `tracer` and `mcc` libraries. Nothing here renders or remaps by itself.
 
+mod animate;
 mod args;
 mod collage;
 mod demo;
+mod demo_animation;
+mod inbetween;
 mod info;
+mod keys;
 mod output;
+mod preview;
 mod progress;
 mod remap;
 mod render;
 mod rerender;
+mod scene_time;
 mod tag;
 
 use clap::{Parser, Subcommand};
@@ -38,7 +44,14 @@ enum Command {
     Remap(remap::RemapArgs),
     /// Render a scene through a collage's rays (remaps first unless given --lens FILE).
     Rerender(rerender::RerenderArgs),
-    /// Run the main job on the bundled scene and write every picture to one folder.
+    /// Interpolate key ray files into one ray file per frame (the in-betweener).
+    Inbetween(inbetween::InbetweenArgs),
+    /// Remap one collage per key frame against that frame's views, then in-between them.
+    Keys(keys::KeysArgs),
+    /// Render a range of frames through per-frame ray files (resumable; farm-splittable).
+    Animate(animate::AnimateArgs),
+    /// Run the main job on the bundled scene and write every picture to one folder
+    /// (--animation: the keyframe workflow, a short animated shot).
     Demo(demo::DemoArgs),
 }
 
@@ -84,6 +97,9 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Collage(a) => collage::run(a),
         Command::Remap(a) => remap::run(a),
         Command::Rerender(a) => rerender::run(a),
+        Command::Inbetween(a) => inbetween::run(a),
+        Command::Keys(a) => keys::run(a),
+        Command::Animate(a) => animate::run(a),
         Command::Demo(a) => demo::run(a),
     }
 }

@@ -74,7 +74,7 @@ pub struct QualityArgs {
     /// Samples per pixel (1 … 65536).
     #[arg(long, default_value_t = 64)]
     pub spp: u32,
-    /// Output resolution (default 640x360; for `rerender`, the ray file's).
+    /// Output resolution (default 640x360; for `rerender` and `animate`, the ray file's).
     #[arg(long, value_name = "WxH")]
     pub res: Option<Resolution>,
     /// Seed of the sample sequence: the same seed gives the same image bit for bit.
@@ -153,9 +153,13 @@ pub struct RenderArgs {
     pub scene: SceneArgs,
     #[command(flatten)]
     pub quality: QualityArgs,
-    /// Frame number (used in output names and by lens shaders).
+    /// Frame number (used in output names and by lens shaders; an animated scene is posed at
+    /// FRAME / --fps seconds).
     #[arg(long, default_value_t = 0)]
     pub frame: u32,
+    /// Frames per second: the scene time of frame F is F / FPS seconds.
+    #[arg(long, default_value_t = crate::scene_time::DEFAULT_FPS)]
+    pub fps: f32,
     /// Output: an .exr file (one camera), or a directory that receives
     /// frameFFFFcameraCC.exr and .png per camera.
     #[arg(long)]
@@ -249,6 +253,14 @@ pub fn integrator_config(q: &QualityArgs) -> IntegratorConfig {
 
 /// Prepares the scene for tracing (BVH, lights) with the quality settings applied.
 pub fn prepare(scene: &mut Scene, q: &QualityArgs) -> anyhow::Result<PathTracer> {
+    apply_environment(scene, q)?;
+    apply_light_overrides(scene, q);
+    Ok(PathTracer::new(scene, integrator_config(q))?)
+}
+
+/// Applies --env and --env-map (loading the image). `Scene::at_time` carries both over, so an
+/// animated scene loads its environment image once, not per frame.
+pub fn apply_environment(scene: &mut Scene, q: &QualityArgs) -> anyhow::Result<()> {
     if let Some(env) = q.env {
         scene.environment.color = env.0;
     }
@@ -261,6 +273,11 @@ pub fn prepare(scene: &mut Scene, q: &QualityArgs) -> anyhow::Result<PathTracer>
         }
         scene.environment_map = Some(map);
     }
+    Ok(())
+}
+
+/// Applies --spot-falloff to the scene's lights (which `Scene::at_time` rebuilds each frame).
+pub fn apply_light_overrides(scene: &mut Scene, q: &QualityArgs) {
     if let Some(f) = q.spot_falloff {
         let falloff = match f {
             FalloffArg::Blender => SpotFalloff::Blender,
@@ -272,7 +289,6 @@ pub fn prepare(scene: &mut Scene, q: &QualityArgs) -> anyhow::Result<PathTracer>
             }
         }
     }
-    Ok(PathTracer::new(scene, integrator_config(q))?)
 }
 
 /// Builds `view`'s camera at `res`, with an overscan border of `overscan` pixels.
@@ -291,8 +307,23 @@ pub fn render_camera(
     q: &QualityArgs,
     frame: u32,
 ) -> anyhow::Result<Rendered> {
-    let settings =
-        RenderSettings { spp: q.spp, seed: q.seed, frame, camera_id, shutter: (0.0, 0.0), aovs: q.aovs };
+    render_camera_with_shutter(tracer, camera, name, camera_id, lenses, q, frame, (0.0, 0.0))
+}
+
+/// [`render_camera`] with the shutter open from `shutter.0` to `shutter.1` frames after the
+/// frame's start (each eye ray gets a time in it: motion blur through the lens shaders).
+#[allow(clippy::too_many_arguments)]
+pub fn render_camera_with_shutter(
+    tracer: &PathTracer,
+    camera: &dyn Camera,
+    name: &str,
+    camera_id: u32,
+    lenses: &mut LensChain,
+    q: &QualityArgs,
+    frame: u32,
+    shutter: (f32, f32),
+) -> anyhow::Result<Rendered> {
+    let settings = RenderSettings { spp: q.spp, seed: q.seed, frame, camera_id, shutter, aovs: q.aovs };
     let res = camera.resolution();
     let bar = Bar::new(res.x as u64 * res.y as u64, name, q.quiet);
     let rendered = with_threads(q.threads, || render(tracer, camera, lenses, &settings, &bar))?;
@@ -349,7 +380,9 @@ pub fn output_paths(out: &Path, views: &[View], frame: u32) -> anyhow::Result<Ve
 pub fn run(a: RenderArgs) -> anyhow::Result<()> {
     let q = &a.quality;
     let code = mcc::TagCode::new(a.tag_bits)?;
-    let mut scene = load_scene(&a.scene.scene, q.quiet)?;
+    let scene = load_scene(&a.scene.scene, q.quiet)?;
+    // Pose an animated scene (cameras included) before picking cameras from it.
+    let mut scene = crate::scene_time::at_frame(scene, a.frame, a.fps)?;
     let mut views = select_views(&mut scene, &a.scene)?;
     if a.first_id == 0 {
         bail!("--first-id must be at least 1 (0 means no camera)");

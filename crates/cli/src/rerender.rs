@@ -25,9 +25,13 @@ pub struct RerenderArgs {
     /// A ready ray file (from `mcctrace remap` or the in-betweener) instead of --collage/--rays.
     #[arg(long, conflicts_with_all = ["collage", "rays", "regions"])]
     pub lens: Option<PathBuf>,
-    /// Frame (selects the views' ray files and names the outputs).
+    /// Frame (selects the views' ray files and names the outputs; an animated scene is posed at
+    /// FRAME / --fps seconds).
     #[arg(long, default_value_t = 0)]
     pub frame: u32,
+    /// Frames per second: the scene time of frame F is F / FPS seconds.
+    #[arg(long, default_value_t = crate::scene_time::DEFAULT_FPS)]
+    pub fps: f32,
     /// Drop an N-pixel border (in collage pixels) rendered with `render --overscan N`.
     #[arg(long, default_value_t = 0, value_name = "N")]
     pub crop: u32,
@@ -61,7 +65,9 @@ fn crop(r: &mut Rendered, n: u32) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Renders `scene_path` through the rays of `rays` into `out` (shared with the demo).
+/// Renders `scene_path` (posed at `frame` / `fps` seconds if animated) through the rays of
+/// `rays` into `out` (shared with the demo).
+#[allow(clippy::too_many_arguments)]
 pub fn render_with_rays(
     scene_path: &Path,
     rays: mcc::RayFile,
@@ -70,12 +76,14 @@ pub fn render_with_rays(
     out: &Path,
     q: &QualityArgs,
     frame: u32,
+    fps: f32,
 ) -> anyhow::Result<PathBuf> {
     let (w, h) = (rays.width, rays.height);
     let res = res.map_or(UVec2::new(w, h), |r| r.0);
     // The crop is given in collage pixels; scale it to the output.
     let crop_out = (crop_border as f64 * res.x as f64 / w as f64).round() as u32;
-    let mut scene = load_scene(scene_path, q.quiet)?;
+    let scene = load_scene(scene_path, q.quiet)?;
+    let mut scene = crate::scene_time::at_frame(scene, frame, fps)?;
     let tracer = prepare(&mut scene, q)?;
     // The lens reader replaces every ray; the camera only carries the film size.
     let carrier = CameraDesc::look_at(
@@ -126,6 +134,6 @@ pub fn run(a: RerenderArgs) -> anyhow::Result<()> {
             output.rays
         }
     };
-    render_with_rays(&a.scene, rays, q.res, a.crop, &a.out, q, a.frame)?;
+    render_with_rays(&a.scene, rays, q.res, a.crop, &a.out, q, a.frame, a.fps)?;
     Ok(())
 }

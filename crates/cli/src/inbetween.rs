@@ -1,0 +1,120 @@
+//! `mcctrace inbetween`: the in-betweener (SPEC §7, §8): key ray files in, one
+//! `rerender-frameFFFF` ray file per frame out, each written atomically.
+
+use crate::args::{FrameRange, KeyArg, Resolution};
+use crate::progress::Bar;
+use crate::render::RayFormatArg;
+use anyhow::Context;
+use clap::{Args, ValueEnum};
+use mcc::inbetween::{InbetweenMode, Keys, write_frames};
+use std::path::{Path, PathBuf};
+use tracer::render::Progress;
+
+/// In-betweening modes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ModeArg {
+    /// C1 across interior keys (Catmull–Rom origins, its spherical counterpart on directions);
+    /// eases in and out of the first and last key.
+    Smooth,
+    /// Origins lerp, directions slerp between the two surrounding keys.
+    Linear,
+}
+
+impl From<ModeArg> for InbetweenMode {
+    fn from(m: ModeArg) -> Self {
+        match m {
+            ModeArg::Smooth => InbetweenMode::Smooth,
+            ModeArg::Linear => InbetweenMode::Linear,
+        }
+    }
+}
+
+/// Output settings shared by `inbetween` and `keys`.
+#[derive(Args, Debug, Clone)]
+pub struct InbetweenOutputArgs {
+    /// Frames to write, FIRST..=LAST (default: the first key's frame to the last key's). Frames
+    /// before the first key or after the last hold that key.
+    #[arg(long, value_name = "A..=B")]
+    pub frames: Option<FrameRange>,
+    /// Directory that receives rerender-frameFFFF.mcr (or .txt) per frame.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Interpolation between keys.
+    #[arg(long, value_enum, default_value = "smooth")]
+    pub mode: ModeArg,
+    /// Resolution of every frame (default: the earliest key's); keys of another size are
+    /// resampled with the lens reader's rule.
+    #[arg(long, value_name = "WxH")]
+    pub res: Option<Resolution>,
+    /// Encoding of the ray files.
+    #[arg(long, value_enum, default_value = "binary")]
+    pub ray_format: RayFormatArg,
+    /// No progress bar or summary.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// Arguments of `mcctrace inbetween`.
+#[derive(Args, Debug)]
+pub struct InbetweenArgs {
+    /// A key: its frame and ray file, FRAME=FILE (like 150=lens/rerender-frame0150.mcr);
+    /// repeat for each key, in any order. Keys need share no cameras or resolution.
+    #[arg(long = "key", value_name = "FRAME=FILE", required = true)]
+    pub keys: Vec<KeyArg>,
+    #[command(flatten)]
+    pub output: InbetweenOutputArgs,
+}
+
+/// Counts written frames on a progress bar.
+struct FrameBar(Bar);
+
+impl FrameBar {
+    fn tick(&self) {
+        self.0.advance(1);
+    }
+}
+
+/// Writes the frames `o` asks for from `keys`; returns the paths written, in frame order.
+pub fn write_inbetweens(keys: &Keys, o: &InbetweenOutputArgs) -> anyhow::Result<Vec<PathBuf>> {
+    let frames = o.frames.unwrap_or_else(|| {
+        let f = keys.frames();
+        FrameRange { first: f[0], last: f[f.len() - 1] }
+    });
+    let start = std::time::Instant::now();
+    let bar = FrameBar(Bar::new(frames.len(), "in-between", o.quiet));
+    let written =
+        write_frames(keys, frames.range(), o.mode.into(), &o.out, o.ray_format.into(), &|_| bar.tick())
+            .with_context(|| format!("in-betweening frames {frames} into {}", o.out.display()))?;
+    bar.0.finish();
+    if !o.quiet {
+        let res = keys.resolution();
+        eprintln!(
+            "in-between: {} frames ({frames}) at {}x{} from keys at {:?} ({:?}) in {:.2} s -> {}",
+            written.len(),
+            res.x,
+            res.y,
+            keys.frames(),
+            o.mode,
+            start.elapsed().as_secs_f64(),
+            o.out.display()
+        );
+    }
+    Ok(written)
+}
+
+/// Loads the key files, refusing a missing one by name before anything is written.
+fn load_keys(keys: &[KeyArg], res: Option<Resolution>) -> anyhow::Result<Keys> {
+    let pairs: Vec<(u32, PathBuf)> = keys.iter().map(|k| (k.frame, k.path())).collect();
+    for (frame, path) in &pairs {
+        if !Path::new(path).is_file() {
+            anyhow::bail!("key at frame {frame}: {} is not a file (or cannot be reached)", path.display());
+        }
+    }
+    Ok(Keys::load(&pairs, res.map(|r| r.0))?)
+}
+
+pub fn run(a: InbetweenArgs) -> anyhow::Result<()> {
+    let keys = load_keys(&a.keys, a.output.res)?;
+    write_inbetweens(&keys, &a.output)?;
+    Ok(())
+}

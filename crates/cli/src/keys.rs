@@ -1,0 +1,92 @@
+//! `mcctrace keys`: the column's keyframe workflow in one go (SPEC §5, §7, §8): one collage per
+//! key frame, each remapped against that frame's source views (`frameFFFFcameraCC.mcr`, SPEC
+//! §4) by the remap command's own code path, then in-betweened into one ray file per frame.
+
+use crate::args::KeyArg;
+use crate::inbetween::{InbetweenOutputArgs, write_inbetweens};
+use crate::remap::{CollageInputArgs, remap_collage};
+use anyhow::{Context, bail};
+use clap::Args;
+use mcc::inbetween::Keys;
+use std::path::PathBuf;
+
+/// Arguments of `mcctrace keys`.
+#[derive(Args, Debug)]
+pub struct KeysArgs {
+    /// A key: FRAME=COLLAGE or FRAME=COLLAGE,REGIONS (the region image; default:
+    /// <collage-stem>-regions.png beside the collage, if present). Repeat for each key; each
+    /// key may use its own cameras.
+    #[arg(long = "key", value_name = "FRAME=COLLAGE[,REGIONS]", required = true)]
+    pub keys: Vec<KeyArg>,
+    /// Directory holding the source views' ray files of every key frame
+    /// (frameFFFFcameraCC.mcr or .txt, as `render --lens-writer` names them).
+    #[arg(long)]
+    pub rays: PathBuf,
+    /// Treat stray pixels (non-background with no usable camera id) as background.
+    #[arg(long)]
+    pub ignore_strays: bool,
+    /// Bits per channel of the camera tag.
+    #[arg(long, default_value_t = 2)]
+    pub tag_bits: u8,
+    /// Radius of the remapper's first box blur.
+    #[arg(long, default_value_t = mcc::RemapConfig::GLASSNER.first_blur_radius)]
+    pub blur1: u32,
+    /// Radius of the remapper's second box blur.
+    #[arg(long, default_value_t = mcc::RemapConfig::GLASSNER.second_blur_radius)]
+    pub blur2: u32,
+    /// Control value of the remapper's ease curve (0.5: no easing).
+    #[arg(long, default_value_t = mcc::RemapConfig::GLASSNER.ease_control)]
+    pub ease: f32,
+    #[command(flatten)]
+    pub output: InbetweenOutputArgs,
+}
+
+/// A key's collage and optional region image, from `COLLAGE[,REGIONS]`.
+fn split_key(key: &KeyArg) -> anyhow::Result<(PathBuf, Option<PathBuf>)> {
+    match key.value.split_once(',') {
+        None => Ok((key.path(), None)),
+        Some((collage, regions)) if !collage.is_empty() && !regions.is_empty() => {
+            Ok((PathBuf::from(collage), Some(PathBuf::from(regions))))
+        }
+        Some(_) => {
+            bail!("--key {}={}: expected FRAME=COLLAGE or FRAME=COLLAGE,REGIONS", key.frame, key.value)
+        }
+    }
+}
+
+/// Remaps every key's collage against its frame's views; returns (frame, rays) per key.
+pub fn remap_keys(a: &KeysArgs) -> anyhow::Result<Vec<(u32, mcc::RayFile)>> {
+    let mut seen = std::collections::BTreeSet::new();
+    for k in &a.keys {
+        if !seen.insert(k.frame) {
+            bail!("frame {} has two --key entries; each frame takes one key", k.frame);
+        }
+    }
+    a.keys
+        .iter()
+        .map(|k| {
+            let (collage, regions) = split_key(k)?;
+            let input = CollageInputArgs {
+                collage: Some(collage.clone()),
+                rays: Some(a.rays.clone()),
+                regions,
+                ignore_strays: a.ignore_strays,
+                tag_bits: a.tag_bits,
+                blur1: a.blur1,
+                blur2: a.blur2,
+                ease: a.ease,
+                debug_dir: None,
+            };
+            let out = remap_collage(&input, k.frame, a.output.quiet)
+                .with_context(|| format!("key at frame {} ({})", k.frame, collage.display()))?;
+            Ok((k.frame, out.rays))
+        })
+        .collect()
+}
+
+pub fn run(a: KeysArgs) -> anyhow::Result<()> {
+    let remapped = remap_keys(&a)?;
+    let keys = Keys::new(remapped, a.output.res.map(|r| r.0))?;
+    write_inbetweens(&keys, &a.output)?;
+    Ok(())
+}
