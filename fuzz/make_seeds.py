@@ -6,8 +6,8 @@ names below) and leaves other files alone, so a committed seed found by a fuzzer
 hand survives. Seeds are small valid examples of each format plus a few malformed ones; the
 whole corpus stays well under 1 MB.
 
-`collage/tiny.jpg` is the one seed this script does not make (a JPEG encoder is beyond a seed
-script): it was written once by the image crate's JpegEncoder (4x3, quality 90) and is kept.
+There is no JPEG seed (a JPEG encoder is beyond a seed script): the collage seeds are PNG and
+TIFF, the formats collages are saved in.
 """
 
 import base64
@@ -462,6 +462,13 @@ Tr 0.2
         + b"newmtl g\nbump t.png\nmap_Kd t.png\n" + SEPARATOR + png(1, 1, [b"\x80"], 0))
     put("obj", "bad_texture.obj", b"mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl g\nf 1 2 3\n" + SEPARATOR
         + b"newmtl g\nmap_Kd -o t.png\n" + SEPARATOR + b"\x89PNG\r\n\x1a\nnot really")
+
+    # What tobj 4.0.5 panicked or overflowed on before the loader's pre-checks (regressions).
+    put("obj", "mtl_two_number_colour.obj", b"mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl g\nf 1 2 3\n"
+        + SEPARATOR + b"newmtl g\nKd 0.5\nKe 4 4\n")
+    put("obj", "mtl_grey_colour.obj", b"mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl g\nf 1 2 3\n"
+        + SEPARATOR + b"newmtl g\nKd 0.5\nKs 0.04\nNs 50\n")
+    put("obj", "index_zero_relative.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/0 2/1 3/1\nf -4 -2 -1\n")
 
 
 if __name__ == "__main__":

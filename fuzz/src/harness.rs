@@ -34,7 +34,7 @@ pub fn scratch(target: &str) -> PathBuf {
 }
 
 /// Removes this thread's scratch folder (the proptest fallback tidies up; a libFuzzer process
-/// leaves its few small files to `run-ci.sh`'s temporary folder).
+/// leaves its few small files to the temporary folder `.ci/run` gives it as TMPDIR).
 pub fn remove_scratch() {
     let root = scratch("x");
     if let Some(root) = root.parent() {

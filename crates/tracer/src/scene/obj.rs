@@ -116,6 +116,7 @@ impl Loader {
 
     fn load(&mut self, path: &Path) -> Result<()> {
         let bytes = std::fs::read(path).map_err(|e| TracerError::io(path, e))?;
+        obj_text::check_faces(&bytes).map_err(|m| TracerError::scene(path, format!("malformed OBJ: {m}")))?;
         let dir = path.parent().unwrap_or(Path::new("."));
         // tobj's material callback is `Fn`: it records what it loaded and what failed here.
         let libraries = RefCell::new(Vec::<Library>::new());

@@ -194,3 +194,37 @@ fn scene_obj_files_are_one_scene() {
     let dir = Scene::load(&cornell).unwrap();
     assert_eq!(dir.mesh.corners(0)[0], Vec3::new(5.496, 0.0, 5.592));
 }
+
+#[test]
+fn scene_obj_malformed_mtl_values_are_errors_naming_the_library_and_line() {
+    let dir = TempDir::new("obj-bad-mtl");
+    let obj = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n";
+    // `Ke 4 4` panicked inside tobj 4.0.5 before the pre-scan; `Kd 0.5` means grey.
+    for (mtl, want) in [
+        ("newmtl red\nKd 0.5\nKe 4 4\n", "line 3: Ke '4 4' is not one or three numbers"),
+        ("newmtl red\nKd 0.8 nan 0.1\n", "line 2: Kd '0.8 nan 0.1' is not finite"),
+        ("newmtl red\nillum x\n", "line 2: malformed MTL"),
+    ] {
+        dir.write("m.mtl", mtl);
+        let message = Scene::load(&dir.write("tri.obj", obj)).unwrap_err().to_string();
+        assert!(message.contains("m.mtl") && message.contains(want), "{mtl:?}: {message}");
+        assert!(message.contains("material library of") && message.contains("tri.obj"), "{message}");
+    }
+    dir.write("m.mtl", "newmtl red\nKd 0.5\nKe 0.25\n");
+    let scene = Scene::load(&dir.write("tri.obj", obj)).unwrap();
+    assert_eq!(scene.materials[0].base_color, Vec3::splat(0.5));
+    assert_eq!(scene.materials[0].emission, Vec3::splat(0.25));
+}
+
+#[test]
+fn scene_obj_unknown_statements_warn_and_faceless_files_are_refused() {
+    let dir = TempDir::new("obj-statements");
+    let scene = Scene::load(&dir.write("odd.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nfoo bar\nf 1 2 3\n")).unwrap();
+    assert_eq!(scene.mesh.triangle_count(), 1);
+    let warnings = scene.warnings.join("\n");
+    assert!(warnings.contains("odd.obj: line 4: unknown statement 'foo'; ignored"), "{warnings}");
+    for (name, text) in [("empty.obj", ""), ("points.obj", "v 0 0 0\nv 1 0 0\n# no faces\n")] {
+        let message = Scene::load(&dir.write(name, text)).unwrap_err().to_string();
+        assert!(message.contains(name) && message.contains("no faces"), "{message}");
+    }
+}

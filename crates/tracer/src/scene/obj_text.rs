@@ -6,6 +6,8 @@
 //!   three numbers, and accepts `nan`/`inf`. [`prescan_mtl`] runs first: it expands MTL's
 //!   one-number form `Kd r` (meaning `r r r`) and refuses any other count, non-numbers and
 //!   non-finite values with the line number, so tobj only ever sees three finite numbers.
+//! - OBJ face indices that make tobj's index arithmetic overflow (0, relative indices before the
+//!   first element): [`check_faces`] refuses them with the line number.
 //! - OBJ statements tobj ignores silently (free-form geometry, typos, garbage):
 //!   [`unknown_statements`] lists them for a warning naming file and line. They are not errors:
 //!   the OBJ specification says unknown statements are ignored, and every importer does so.
@@ -66,6 +68,51 @@ pub(super) fn prescan_mtl(text: &[u8]) -> Result<Vec<u8>, String> {
         out.extend_from_slice(raw);
     }
     Ok(out)
+}
+
+/// Checks the face (`f`, `l`) indices tobj would turn into overflowing arithmetic: 0 (OBJ counts
+/// from 1; tobj computes `0 - 1` as usize::MAX) and relative (negative) indices reaching before
+/// the first vertex, position, texture coordinate or normal. tobj then multiplies such an index
+/// (`vt * 2 + 1`), which panics where overflow checks are on (debug and fuzzing builds).
+/// Absolute indices past the end are left to tobj, which refuses them without overflow.
+/// Returns `line N: what is wrong`.
+pub(super) fn check_faces(text: &[u8]) -> Result<(), String> {
+    let text = String::from_utf8_lossy(text);
+    // Vertices, texture coordinates and normals defined so far.
+    let mut counts = [0usize; 3];
+    const KINDS: [&str; 3] = ["vertex", "texture coordinate", "normal"];
+    for (k, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("v") => counts[0] += 1,
+            Some("vt") => counts[1] += 1,
+            Some("vn") => counts[2] += 1,
+            Some("f" | "l") => {
+                for word in words {
+                    for (kind, part) in word.split('/').enumerate().take(3) {
+                        // Not a number: tobj refuses the line itself.
+                        let Ok(index) = part.parse::<isize>() else { continue };
+                        let line = k + 1;
+                        if index == 0 {
+                            return Err(format!(
+                                "line {line}: {} index 0 in '{word}' is invalid (OBJ counts from 1)",
+                                KINDS[kind]
+                            ));
+                        }
+                        if index < 0 && index.unsigned_abs() > counts[kind] {
+                            return Err(format!(
+                                "line {line}: relative {} index {index} in '{word}' reaches before the first \
+                                 (only {} defined so far)",
+                                KINDS[kind], counts[kind]
+                            ));
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(())
 }
 
 /// OBJ statements that are read (tobj or the loader) or harmless to skip without a word
@@ -186,6 +233,26 @@ mod tests {
         ] {
             let e = prescan_mtl(text.as_bytes()).unwrap_err();
             assert!(e.starts_with(want), "{text:?}: {e}");
+        }
+    }
+
+    #[test]
+    fn scene_obj_face_check_refuses_index_zero_and_relative_indices_before_the_first() {
+        let head = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\n";
+        assert_eq!(check_faces(format!("{head}f 1 2 3\nf -3 -2 -1\nf 1/1 2/-1 3/1\n").as_bytes()), Ok(()));
+        // An absolute index past the end is tobj's to refuse (no overflow there).
+        assert_eq!(check_faces(format!("{head}f 1 2 9\n").as_bytes()), Ok(()));
+        for (face, want) in [
+            ("f 1/0 2/1 3/1", "line 5: texture coordinate index 0 in '1/0' is invalid"),
+            ("f 0 1 2", "line 5: vertex index 0 in '0' is invalid"),
+            ("f -4 1 2", "line 5: relative vertex index -4 in '-4' reaches before the first (only 3"),
+            (
+                "f 1//-1 2//1 3//1",
+                "line 5: relative normal index -1 in '1//-1' reaches before the first (only 0",
+            ),
+        ] {
+            let e = check_faces(format!("{head}{face}\n").as_bytes()).unwrap_err();
+            assert!(e.starts_with(want), "{face}: {e}");
         }
     }
 
