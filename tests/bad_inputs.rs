@@ -140,6 +140,25 @@ fn cases() -> Vec<Case> {
 // ---------------------------------------------------------------------------------------------
 // The parent side.
 
+/// The corpus checks that `try_run` returns `Err`; this proves the binary's entry point turns
+/// such an error into a non-zero exit status (and a command line clap refuses into 2).
+#[test]
+fn errors_exit_non_zero() {
+    use std::process::ExitCode;
+    let dir =
+        PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("bad-inputs-exit-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("create the scratch directory");
+    let (scene, out) = (dir.join("no-such-scene.gltf"), dir.join("out.exr"));
+    let code = |args: &[&str]| {
+        format!("{:?}", mcctrace_cli::main_with_args(std::iter::once("mcctrace").chain(args.iter().copied())))
+    };
+    let failed = code(&["render", scene.to_str().unwrap(), "-q", "--out", out.to_str().unwrap()]);
+    assert_eq!(failed, format!("{:?}", ExitCode::FAILURE));
+    assert_eq!(code(&["render", "--spp"]), format!("{:?}", ExitCode::from(2)));
+    assert!(!out.exists(), "a failed run wrote its output");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// What a child reported.
 struct Outcome {
     status: String,
