@@ -25,7 +25,7 @@ pub(crate) const GLB_JSON: &str = r#"{"asset":{"version":"2.0","generator":"mcct
 /// A GLB container: header, the JSON chunk (space-padded) and an optional BIN chunk.
 pub(crate) fn glb(json: &[u8], bin: Option<&[u8]>) -> Vec<u8> {
     let mut json = json.to_vec();
-    while json.len() % 4 != 0 {
+    while !json.len().is_multiple_of(4) {
         json.push(b' ');
     }
     let mut out = b"glTF".to_vec();
@@ -36,7 +36,7 @@ pub(crate) fn glb(json: &[u8], bin: Option<&[u8]>) -> Vec<u8> {
     out.extend_from_slice(&json);
     if let Some(bin) = bin {
         let mut bin = bin.to_vec();
-        while bin.len() % 4 != 0 {
+        while !bin.len().is_multiple_of(4) {
             bin.push(0);
         }
         out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
