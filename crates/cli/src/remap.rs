@@ -80,7 +80,13 @@ pub fn remap_collage(input: &CollageInputArgs, frame: u32, quiet: bool) -> anyho
         collage_options: options,
     };
     let start = std::time::Instant::now();
-    let output = mcc::remap::remap_files(&inputs, &config)?;
+    let output = mcc::remap::remap_files(&inputs, &config).map_err(|e| match e {
+        // The remapper works on decoded data and calls it "collage"; here the file is known.
+        mcc::MccError::Input { what, message } if what == "collage" => {
+            anyhow::anyhow!("{}: {message}", collage.display())
+        }
+        other => other.into(),
+    })?;
     if !quiet {
         for w in &output.warnings {
             eprintln!("warning: {}: {w}", collage.display());

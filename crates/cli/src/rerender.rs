@@ -80,8 +80,12 @@ pub fn render_with_rays(
 ) -> anyhow::Result<PathBuf> {
     let (w, h) = (rays.width, rays.height);
     let res = res.map_or(UVec2::new(w, h), |r| r.0);
-    // The crop is given in collage pixels; scale it to the output.
+    // The crop is given in collage pixels; scale it to the output. Checked before the scene is
+    // loaded and rendered: a bad value fails at once and leaves nothing behind.
     let crop_out = (crop_border as f64 * res.x as f64 / w as f64).round() as u32;
+    if crop_out > 0 && (2 * crop_out as u64 >= res.x as u64 || 2 * crop_out as u64 >= res.y as u64) {
+        bail!("--crop {crop_border} leaves nothing of a {}x{} image", res.x, res.y);
+    }
     let scene = load_scene(scene_path, q.quiet)?;
     let mut scene = crate::scene_time::at_frame(scene, frame, fps)?;
     let tracer = prepare(&mut scene, q)?;
@@ -121,19 +125,20 @@ pub fn run(a: RerenderArgs) -> anyhow::Result<()> {
         bail!("--out {}: give an .exr file", a.out.display());
     }
     create_parent(&a.out)?;
-    let rays = match &a.lens {
-        Some(path) => mcc::RayFile::read(path)?,
-        None => {
-            let output = remap_collage(&a.input, a.frame, q.quiet)?;
-            let dir = a.out.parent().map(Path::to_path_buf).unwrap_or_default();
-            let saved = dir.join(mcc::names::rerender_name(a.frame, a.ray_format.into()));
-            output.rays.write(&saved, a.ray_format.into()).with_context(|| "saving the remapped rays")?;
-            if !q.quiet {
-                eprintln!("rays -> {}", saved.display());
-            }
-            output.rays
+    let Some(path) = &a.lens else {
+        let output = remap_collage(&a.input, a.frame, q.quiet)?;
+        // The remapped rays are saved only once the render has succeeded: a run that fails
+        // (a bad --crop, --spp, scene …) leaves no output behind (SPEC §8).
+        render_with_rays(&a.scene, output.rays.clone(), q.res, a.crop, &a.out, q, a.frame, a.fps)?;
+        let dir = a.out.parent().map(Path::to_path_buf).unwrap_or_default();
+        let saved = dir.join(mcc::names::rerender_name(a.frame, a.ray_format.into()));
+        output.rays.write(&saved, a.ray_format.into()).with_context(|| "saving the remapped rays")?;
+        if !q.quiet {
+            eprintln!("rays -> {}", saved.display());
         }
+        return Ok(());
     };
+    let rays = mcc::RayFile::read(path)?;
     render_with_rays(&a.scene, rays, q.res, a.crop, &a.out, q, a.frame, a.fps)?;
     Ok(())
 }

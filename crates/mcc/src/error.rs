@@ -9,14 +9,14 @@ use tracer::TracerError;
 /// Everything that can go wrong in the MCC stages.
 #[derive(Debug, thiserror::Error)]
 pub enum MccError {
-    /// A file or directory could not be read.
-    #[error("{}: {source}", path.display())]
+    /// A file or directory could not be read. (The OS error is part of the message, not a
+    /// separate `source()`, so error chains do not print it twice, as with `TracerError::Io`.)
+    #[error("{}: {error}", path.display())]
     Io {
         /// The file or directory.
         path: PathBuf,
         /// What the operating system said.
-        #[source]
-        source: std::io::Error,
+        error: std::io::Error,
     },
     /// A ray file is malformed as a whole (header, size, length, encoding).
     #[error("{}: {message}", path.display())]
@@ -125,8 +125,8 @@ pub enum MccError {
 
 impl MccError {
     /// Shorthand for an I/O error about `path`.
-    pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
-        Self::Io { path: path.into(), source }
+    pub fn io(path: impl Into<PathBuf>, error: std::io::Error) -> Self {
+        Self::Io { path: path.into(), error }
     }
 
     /// Shorthand for an image error about `path`.

@@ -7,16 +7,23 @@ use image::DynamicImage;
 use image::codecs::png::PngEncoder;
 use std::path::Path;
 
-/// Decodes the image at `path`; errors name the file.
+/// Decodes the image at `path`; errors name the file. Sizes past the tracer's
+/// [`MAX_PIXELS`](tracer::image_io::MAX_PIXELS) are refused from the header, before decoding.
 pub fn read_image(path: &Path) -> Result<DynamicImage> {
-    let reader = image::ImageReader::open(path)
-        .map_err(|e| MccError::io(path, e))?
+    let bytes = std::fs::read(path).map_err(|e| MccError::io(path, e))?;
+    let undecodable = |why: String| MccError::image(path, format!("cannot decode the image: {why}"));
+    if bytes.is_empty() {
+        return Err(undecodable("the file is empty (0 bytes)".to_owned()));
+    }
+    if let Some((width, height)) = tracer::image_io::png_header_size(&bytes) {
+        tracer::image_io::check_claimed_size(width, height).map_err(undecodable)?;
+    }
+    let reader = image::ImageReader::new(std::io::Cursor::new(&bytes))
         .with_guessed_format()
-        .map_err(|e| MccError::io(path, e))?;
-    reader.decode().map_err(|e| match e {
-        image::ImageError::IoError(e) => MccError::io(path, e),
-        other => MccError::image(path, format!("cannot decode the image: {other}")),
-    })
+        .map_err(|e| undecodable(e.to_string()))?;
+    // Every decoding failure is the file's fault here (it was read into memory already): a
+    // truncated file surfaces as the decoder's I/O error "unexpected end of file".
+    reader.decode().map_err(|e| undecodable(e.to_string()))
 }
 
 /// Writes `image` as a PNG at `path`, atomically.

@@ -475,6 +475,7 @@ fn parse_text(bytes: &[u8], path: &Path) -> Result<RayFile> {
         MccError::RayRecord { path: path.into(), record, message }
     };
     let mut count = 0u64;
+    let last_line = bytes.iter().filter(|&&b| b == b'\n').count() + 1;
     for (line, raw) in lines {
         let Ok(text) = std::str::from_utf8(raw) else {
             return Err(record_error(line, None, "not text (invalid UTF-8)".into()));
@@ -495,7 +496,17 @@ fn parse_text(bytes: &[u8], path: &Path) -> Result<RayFile> {
             k += 1;
         }
         if k < 8 {
-            return Err(record_error(line, None, format!("{k} fields, want 8 (`i j ox oy oz dx dy dz`)")));
+            // A short last line without its newline is where a copy or a download stopped.
+            let cut = if line == last_line && !bytes.ends_with(b"\n") {
+                "; the file ends in the middle of this record: truncated"
+            } else {
+                ""
+            };
+            return Err(record_error(
+                line,
+                None,
+                format!("{k} fields, want 8 (`i j ox oy oz dx dy dz`){cut}"),
+            ));
         }
         let index = |f: &str, what: &str, limit: u32| match f.parse::<u32>() {
             Ok(v) if v < limit => Ok(v),

@@ -32,6 +32,28 @@ pub const MAX_PIXELS: u64 = 1 << 28;
 /// 2^30, 4 GiB as f32.
 pub const MAX_SAMPLES: u64 = 1 << 30;
 
+/// The width and height a PNG's IHDR chunk claims, if `bytes` start like a PNG (signature, then
+/// IHDR). Read by hand because the image crate only reports a PNG's size after it has found the
+/// first IDAT chunk, so a header-only file with an absurd size would fail with a misleading
+/// message instead of being refused for its size.
+pub fn png_header_size(bytes: &[u8]) -> Option<(u32, u32)> {
+    const SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
+    if bytes.len() < 24 || &bytes[..8] != SIGNATURE || &bytes[12..16] != b"IHDR" {
+        return None;
+    }
+    let be32 = |at: usize| u32::from_be_bytes([bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]]);
+    Some((be32(16), be32(20)))
+}
+
+/// Refuses an image size a reader will not allocate for: no pixel, or more than [`MAX_PIXELS`].
+/// The message says what the file claims (callers name the file).
+pub fn check_claimed_size(width: u32, height: u32) -> Result<(), String> {
+    if width == 0 || height == 0 || width as u64 * height as u64 > MAX_PIXELS {
+        return Err(format!("the image claims {width} × {height} pixels; 1 to {MAX_PIXELS} are accepted"));
+    }
+    Ok(())
+}
+
 /// Checks that an in-memory image of `width × height` holding `len` values, `per_pixel` to a
 /// pixel, is consistent and writable; returns the pixel count. `what` names it in the message.
 fn check_dimensions(

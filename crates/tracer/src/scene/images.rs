@@ -3,7 +3,8 @@
 //!
 //! - Formats: PNG and JPEG (glTF's two), and TIFF; told apart by their contents, not by a
 //!   `mimeType` or file name (which are often wrong).
-//! - Sizes over [`MAX_PIXELS`] are refused from the header, before anything is decoded.
+//! - Sizes over [`MAX_PIXELS`](crate::image_io::MAX_PIXELS) are refused from the header, before
+//!   anything is decoded.
 //! - 8- and 16-bit, greyscale, grey + alpha, RGB and RGBA all become RGBA. Colour slots (base
 //!   colour, emissive) are decoded from sRGB to linear (alpha stays linear, as glTF says);
 //!   data slots (metallic-roughness, normal) are read as linear. Float images are linear already.
@@ -11,7 +12,7 @@
 //! Loaders turn a failed decode into a warning naming the image and leave the slot that wanted
 //! it empty (the factor alone applies). Never an error, never a panic.
 
-use crate::image_io::{MAX_PIXELS, srgb8_to_linear};
+use crate::image_io::srgb8_to_linear;
 use crate::texture::Texture;
 use glam::Vec4;
 use image::{DynamicImage, ImageFormat, ImageReader, Limits};
@@ -42,10 +43,13 @@ pub(in crate::scene) fn decode(bytes: &[u8]) -> Result<DynamicImage, String> {
             None => Err("not a PNG, JPEG or TIFF image (unrecognised contents)".to_owned()),
         }
     };
-    let (width, height) = reader()?.into_dimensions().map_err(|e| format!("malformed image header: {e}"))?;
-    if width == 0 || height == 0 || width as u64 * height as u64 > MAX_PIXELS {
-        return Err(format!("the image claims {width} × {height} pixels; 1 to {MAX_PIXELS} are accepted"));
+    // A PNG's claimed size first, straight from its IHDR: the decoder only reports it after
+    // reading up to the first IDAT, which a damaged file may lack.
+    if let Some((width, height)) = crate::image_io::png_header_size(bytes) {
+        crate::image_io::check_claimed_size(width, height)?;
     }
+    let (width, height) = reader()?.into_dimensions().map_err(|e| format!("malformed image header: {e}"))?;
+    crate::image_io::check_claimed_size(width, height)?;
     let mut reader = reader()?;
     // Our own size cap above replaces the decoder's default allocation limit.
     reader.limits(Limits::no_limits());

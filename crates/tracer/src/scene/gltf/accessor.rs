@@ -7,10 +7,7 @@ use glam::{Vec2, Vec3, Vec4};
 use gltf::accessor::sparse::IndexType;
 use gltf::accessor::{Accessor, DataType, Dimensions};
 
-/// Largest element count accepted for an accessor without a buffer view (all zeros plus sparse
-/// substitutions): such a count is not bounded by any buffer, so a hostile file could ask for
-/// terabytes.
-const MAX_VIEWLESS_COUNT: usize = 1 << 26;
+use super::precheck::MAX_VIEWLESS_COUNT;
 
 /// Reads a `VEC3`/`FLOAT` accessor (`POSITION`, `NORMAL`).
 pub(super) fn read_vec3(acc: &Accessor, buffers: &[Vec<u8>], semantic: &str) -> Result<Vec<Vec3>, String> {

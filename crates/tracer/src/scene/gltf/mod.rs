@@ -30,6 +30,7 @@ mod animation;
 mod animation_tests;
 mod buffers;
 mod material;
+mod precheck;
 #[cfg(test)]
 pub(super) mod tests;
 #[cfg(test)]
@@ -90,8 +91,12 @@ pub(super) fn load_with(path: &Path, keep_rig: bool) -> Result<Scene> {
     // KHR_materials_specular); they were checked above, so it need not see the list.
     root.extensions_required.clear();
     animation::check_indices(&root).map_err(err)?;
+    precheck::check(&root).map_err(err)?;
     let unbounded = fill_position_bounds(&mut root);
-    let doc = gltf::Document::from_json(root).map_err(|e| err(e.to_string()))?;
+    let doc = gltf::Document::from_json(root).map_err(|e| match e {
+        gltf::Error::Validation(errors) => err(precheck::describe_validation(&errors)),
+        other => err(other.to_string()),
+    })?;
     let base = path.parent().unwrap_or(Path::new("."));
     let buffers = buffers::load(&doc, base, bin).map_err(err)?;
 

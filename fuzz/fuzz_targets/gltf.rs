@@ -1,0 +1,7 @@
+//! glTF scenes (.gltf JSON with data-URI buffers, and .glb): `Scene::load`, then `Scene::at_time` for animated ones.
+//! The checks are in `fuzz/src/harness.rs`.
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+
+fuzz_target!(|data: &[u8]| mcctrace_fuzz::harness::gltf(data));

@@ -1,0 +1,7 @@
+//! OBJ scenes with their MTL library and a texture: `Scene::load` (input: OBJ, separator line, MTL, separator line, image).
+//! The checks are in `fuzz/src/harness.rs`.
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+
+fuzz_target!(|data: &[u8]| mcctrace_fuzz::harness::obj(data));

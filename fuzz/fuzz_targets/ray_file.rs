@@ -1,0 +1,7 @@
+//! Ray files (binary .mcr and text): `RayFile::parse` and `RayFile::read`.
+//! The checks are in `fuzz/src/harness.rs`.
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+
+fuzz_target!(|data: &[u8]| mcctrace_fuzz::harness::ray_file(data));
