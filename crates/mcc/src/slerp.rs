@@ -53,7 +53,16 @@ fn slerp_wide(a: Vec3, b: Vec3, d: Vec3, d2: f32, t: f32) -> Vec3 {
     let s2 = s.length_squared();
     let theta = 2.0 * half_angle(d2.sqrt(), s2.sqrt());
     // b − a(a·b) from the shorter of d = b − a and s = a + b: d − a(a·d) = s − a(a·s).
-    let p = if d2 <= s2 { d - a * a.dot(d) } else { s - a * a.dot(s) };
+    let (v, v2) = if d2 <= s2 { (d, d2) } else { (s, s2) };
+    let mut p = v - a * a.dot(v);
+    if p.length_squared() < 0.25 * v2 {
+        // For exactly unit inputs |p|/|v| = sin(θ/2) or cos(θ/2) ≥ 0.7 on the branch taken;
+        // less means v lies along a, i.e. the inputs are opposite to within their rounding
+        // and a + b is mostly their length errors. p is then a small difference, and a's own
+        // length error (|a|² = 1 ± 2.4e-7) left a share of a in it ~1e-7·|v|/|p| — measured
+        // 1.2e-5 rad off perpendicular (tests/stress_mcc.rs). A second projection removes it.
+        p -= a * a.dot(p);
+    }
     let u = match p.try_normalize() {
         Some(u) => u,
         None => {
@@ -139,6 +148,19 @@ mod tests {
                 assert_eq!(slerp(a, b, 0.0), a);
                 assert_eq!(slerp(a, b, 1.0), b);
             }
+        }
+    }
+
+    /// Opposite to within f32 rounding, with a not quite unit (|a| = 1 + 1.2e-7): a + b is
+    /// mostly along a, and one projection left u 1.2e-5 rad off perpendicular to a.
+    #[test]
+    fn nearly_opposite_inputs_off_unit_length() {
+        let a = Vec3::new(-0.866_131_9, 0.455_334_3, 0.206_122_38);
+        let b = Vec3::new(0.866_131_8, -0.455_334_25, -0.206_122_35);
+        for t in [0.25f32, 0.5, 0.75] {
+            let r = slerp(a, b, t);
+            let want = t as f64 * angle(a, b);
+            assert!((angle(a, r) - want).abs() <= 1e-6, "t = {t}: {} vs {want}", angle(a, r));
         }
     }
 

@@ -90,20 +90,30 @@ impl WatertightRay {
         let p2y = (tri[2][ky] - oy) + self.sy * p2z;
 
         // Edge functions from exact products (f32 × f32 is exact in f64).
-        let e0 = (p1x as f64 * p2y as f64 - p1y as f64 * p2x as f64) as f32;
-        let e1 = (p2x as f64 * p0y as f64 - p2y as f64 * p0x as f64) as f32;
-        let e2 = (p0x as f64 * p1y as f64 - p0y as f64 * p1x as f64) as f32;
+        let e64 = [
+            p1x as f64 * p2y as f64 - p1y as f64 * p2x as f64,
+            p2x as f64 * p0y as f64 - p2y as f64 * p0x as f64,
+            p0x as f64 * p1y as f64 - p0y as f64 * p1x as f64,
+        ];
+        let [e0, e1, e2] = e64.map(|e| e as f32);
         if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0) {
             return None;
         }
         let det = e0 + e1 + e2;
-        if det == 0.0 {
-            return None;
-        }
-
         // Scaled hit distance, tested against the range before the division.
         let (z0, z1, z2) = (p0z * self.sz, p1z * self.sz, p2z * self.sz);
         let t_scaled = e0 * z0 + e1 * z1 + e2 * z2;
+        let sheared = Sheared { x: [p0x, p1x, p2x], y: [p0y, p1y, p2y], z: [z0, z1, z2], e: e64 };
+        if det == 0.0 {
+            // Zero area, or edge functions below f32's range (a triangle on the denormal grid).
+            return if e64 == [0.0; 3] { None } else { self.intersect_f64(&sheared, t_max) };
+        }
+        // Coordinates past ~1e19 from the ray origin overflow f32 here (t came out NaN); below
+        // ~1e-15 the products fall under f32's normal range and lose the hit.
+        let normal = |x: f32| x.is_finite() && x.abs() >= f32::MIN_POSITIVE;
+        if !(normal(det) && normal(t_scaled)) {
+            return self.intersect_f64(&sheared, t_max);
+        }
         if det < 0.0 && (t_scaled >= 0.0 || t_scaled < t_max * det) {
             return None;
         }
@@ -128,11 +138,67 @@ impl WatertightRay {
         let delta_e = 2.0 * (gamma(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
         let max_e = e0.abs().max(e1.abs()).max(e2.abs());
         let delta_t = 3.0 * (gamma(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * inv_det.abs();
+        if !(t.is_finite() && delta_t.is_finite()) {
+            // The bound's products overflowed (huge coordinates) or 1/det did (a det on the
+            // denormal grid): redo it with f64's range.
+            return self.intersect_f64(&sheared, t_max);
+        }
         if t <= delta_t {
             return None;
         }
         Some(TriangleHit { t, b: [e0 * inv_det, e1 * inv_det, e2 * inv_det] })
     }
+
+    /// The end of [`WatertightRay::intersect`] in f64, for triangles whose f32 arithmetic
+    /// overflows or underflows (coordinates past ~1e19, or on the denormal grid): the same
+    /// formulas and the same error bound (the f32 rounding it bounds happened before, in the
+    /// sheared coordinates; f64 adds far less). The edge-function signs were already tested on
+    /// the f32 values, as for every triangle; they are tested again here for those that
+    /// rounded to 0, from the same f64 values a neighbour sharing the edge computes.
+    #[cold]
+    #[inline(never)]
+    fn intersect_f64(&self, s: &Sheared, t_max: f32) -> Option<TriangleHit> {
+        let g = |n: i32| gamma(n) as f64;
+        let [e0, e1, e2] = s.e;
+        // Edge functions that rounded to 0 in f32 passed the sign test there; f64 has them.
+        if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0) {
+            return None;
+        }
+        let det = e0 + e1 + e2;
+        let t_max = t_max as f64;
+        let z = s.z.map(f64::from);
+        let t_scaled = e0 * z[0] + e1 * z[1] + e2 * z[2];
+        if det == 0.0
+            || (det < 0.0 && (t_scaled >= 0.0 || t_scaled < t_max * det))
+            || (det > 0.0 && (t_scaled <= 0.0 || t_scaled > t_max * det))
+        {
+            return None;
+        }
+        let t = t_scaled / det;
+        let max = |v: [f32; 3]| v.iter().fold(0.0f64, |m, x| m.max(x.abs() as f64));
+        let (max_xt, max_yt, max_zt) = (max(s.x), max(s.y), max(s.z));
+        let delta_z = g(3) * max_zt;
+        let delta_x = g(5) * (max_xt + self.shear_x as f64 * max_zt);
+        let delta_y = g(5) * (max_yt + self.shear_y as f64 * max_zt);
+        let delta_e = 2.0 * (g(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
+        let max_e = e0.abs().max(e1.abs()).max(e2.abs());
+        let delta_t = 3.0 * (g(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) / det.abs();
+        // t is within (0, t_max], so it fits f32; it must stay positive once rounded.
+        let t32 = t as f32;
+        if !(t > delta_t && t.is_finite() && delta_t.is_finite()) || t32 <= 0.0 {
+            return None;
+        }
+        Some(TriangleHit { t: t32, b: [(e0 / det) as f32, (e1 / det) as f32, (e2 / det) as f32] })
+    }
+}
+
+/// A triangle in the watertight test's sheared frame: x, y and scaled z of its corners, and
+/// its edge functions before rounding to f32 (for [`WatertightRay::intersect_f64`]).
+struct Sheared {
+    x: [f32; 3],
+    y: [f32; 3],
+    z: [f32; 3],
+    e: [f64; 3],
 }
 
 /// The hit point from barycentrics and its absolute error bound per axis (pbrt-v4 §6.8.5):
@@ -163,6 +229,29 @@ mod tests {
 
     fn ray(o: Vec3, d: Vec3) -> WatertightRay {
         WatertightRay::new(o, d, safe_reciprocal(d))
+    }
+
+    /// The same hit, scaled by 10^k: t scales with it and stays finite, from the denormal grid
+    /// to near f32's limit (from 1e20 on the f32 edge-function products overflowed and t came
+    /// out NaN; below ~1e-20 1/det did).
+    #[test]
+    fn huge_and_tiny_triangles_give_finite_t() {
+        for s in [1e-39f32, 1e-30, 1e-20, 1e-10, 1.0, 1e10, 1e19, 1e20, 1e30, 1e36] {
+            let t = tri(
+                Vec3::new(-1.0, -1.0, 0.0) * s,
+                Vec3::new(1.0, -1.0, 0.0) * s,
+                Vec3::new(0.0, 1.0, 0.0) * s,
+            );
+            // Meets z = 0 at (0.25, 0.25)·s, inside.
+            let d = Vec3::new(0.05, 0.05, -1.0).normalize();
+            let o = Vec3::new(0.0, 0.0, 5.0) * s;
+            let h = ray(o, d).intersect(&t, f32::INFINITY).unwrap_or_else(|| panic!("scale {s:e}: miss"));
+            let want = 5.0 * s / -d.z;
+            assert!(h.t.is_finite() && (h.t / want - 1.0).abs() < 1e-4, "scale {s:e}: t = {} vs {want}", h.t);
+            assert!((h.b.iter().sum::<f32>() - 1.0).abs() < 1e-5, "scale {s:e}: {:?}", h.b);
+            assert!(ray(o, -d).intersect(&t, f32::INFINITY).is_none(), "scale {s:e}: behind");
+            assert!(ray(o, d).intersect(&t, 0.5 * want).is_none(), "scale {s:e}: beyond t_max");
+        }
     }
 
     #[test]

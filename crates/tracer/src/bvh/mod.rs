@@ -77,6 +77,61 @@ impl QueryRay {
     }
 }
 
+/// Above this magnitude (2^60 ≈ 1.2e18) the boxes are rescaled before obvhs builds on them.
+/// Its builder works in f32 on surface areas and costs, which overflow for boxes past ~1e19;
+/// the corrupted tree then made it index out of bounds (a scene 1e21 across panicked in
+/// `tests/stress.rs`, `denormal_and_huge_coordinates_give_no_nan`).
+const BUILD_RANGE: f32 = (1u64 << 60) as f32;
+
+/// Builds the CWBVH over `aabbs`. Scenes beyond [`BUILD_RANGE`] are built on their boxes scaled
+/// by 2^−k (largest coordinate brought near 2^40), and the nodes scaled back by 2^k: powers of
+/// two scale exactly (each node is p + q·2^(e−127), so p·2^k and e + k), so the tree's boxes are
+/// the ones it would have in world space. Scaled box corners that lose bits to the denormal
+/// range are rounded outwards, so every box still holds its triangle.
+fn build_in_range(mut aabbs: Vec<Aabb>) -> CwBvh {
+    let largest = aabbs.iter().map(|b| b.min.abs().max(b.max.abs()).max_element()).fold(0.0f32, f32::max);
+    let k = if largest > BUILD_RANGE {
+        // The binary exponent of `largest` (≤ 127 for finite input), less 40.
+        ((largest.to_bits() >> 23) as i32 - 127) - 40
+    } else {
+        0
+    };
+    let (down, up) = (f32::from_bits(((127 - k) as u32) << 23), f32::from_bits(((127 + k) as u32) << 23));
+    if k > 0 {
+        let outwards = |v: glam::Vec3A, lower: bool| {
+            let scaled = v * down;
+            // Exact unless it fell into the denormal range; then step outwards if it moved in.
+            let fix = |s: f32, x: f32| match (lower, s * up) {
+                (true, back) if back > x => s.next_down(),
+                (false, back) if back < x => s.next_up(),
+                _ => s,
+            };
+            glam::Vec3A::new(fix(scaled.x, v.x), fix(scaled.y, v.y), fix(scaled.z, v.z))
+        };
+        for b in &mut aabbs {
+            *b = Aabb::new(outwards(b.min, true), outwards(b.max, false));
+        }
+    }
+    let mut cwbvh =
+        obvhs::cwbvh::builder::build_cwbvh(&aabbs, BvhBuildParams::medium_build(), &mut Default::default());
+    if k > 0 {
+        for node in &mut cwbvh.nodes {
+            node.p *= up;
+            for e in &mut node.e {
+                // e = 0 is a zero extent (a point), which stays one. e + k cannot pass 254
+                // for boxes inside the f32 range; saturating would only enlarge the boxes.
+                if *e != 0 {
+                    *e = (*e as i32 + k).min(254) as u8;
+                }
+            }
+        }
+        let scale_back = |b: &mut Aabb| *b = Aabb::new(b.min * up, b.max * up);
+        scale_back(&mut cwbvh.total_aabb);
+        cwbvh.exact_node_aabbs.iter_mut().flatten().for_each(scale_back);
+    }
+    cwbvh
+}
+
 impl Bvh {
     /// Builds the BVH over every triangle of `mesh` (obvhs medium preset).
     pub fn build(mesh: &Mesh) -> Self {
@@ -86,15 +141,7 @@ impl Bvh {
                 Aabb::new(a.min(b).min(c), a.max(b).max(c))
             })
             .collect();
-        let cwbvh = if aabbs.is_empty() {
-            CwBvh::default()
-        } else {
-            obvhs::cwbvh::builder::build_cwbvh(
-                &aabbs,
-                BvhBuildParams::medium_build(),
-                &mut Default::default(),
-            )
-        };
+        let cwbvh = if aabbs.is_empty() { CwBvh::default() } else { build_in_range(aabbs) };
         let triangle_ids = cwbvh.primitive_indices.clone();
         let triangles =
             triangle_ids.iter().map(|&t| mesh.corners(t as usize).map(|p| p.to_array())).collect();
@@ -227,10 +274,13 @@ mod tests {
         }
     }
 
-    /// The BVH answers exactly like testing every triangle, at scene scales 1e-4 … 1e4.
+    /// The BVH answers exactly like testing every triangle, at scene scales 1e-4 … 1e4, and at
+    /// the extremes: on the denormal grid (1e-39) and far past the builder's range (1e20 …
+    /// 1e37, built rescaled by a power of two: obvhs panicked building the 1e30 scene, and the
+    /// triangle test returned t = NaN from 1e20 on).
     #[test]
     fn matches_brute_force_at_every_scale() {
-        for scale in [1e-4f32, 1e-2, 1.0, 1e2, 1e4] {
+        for scale in [1e-4f32, 1e-2, 1.0, 1e2, 1e4, 1e-39, 1e20, 1e30, 1e37] {
             let mut rng = Lcg(7);
             let tris: Vec<[Vec3; 3]> = (0..300)
                 .map(|_| {
@@ -259,6 +309,42 @@ mod tests {
                     assert!(!bvh.occluded(&ray, t * 0.999));
                 }
             }
+        }
+    }
+
+    /// Axis-parallel rays (reciprocal components clamped to ±1e30) answer like testing every
+    /// triangle in scenes up to 1e30 across: a node slab computed as q·(extent·1/d) + … turned
+    /// 0·∞ into NaN once extent/d overflowed (node quanta past ~3e8, i.e. scenes past ~1e11)
+    /// and lost whole subtrees.
+    #[test]
+    fn axis_parallel_rays_match_brute_force_in_huge_scenes() {
+        for scale in [1.0f32, 1e6, 1e11, 1e15, 1e20, 1e30] {
+            let mut rng = Lcg(8);
+            let tris: Vec<[Vec3; 3]> = (0..400)
+                .map(|_| {
+                    let c = rng.vec() * 5.0;
+                    [c + rng.vec() * 0.6, c + rng.vec() * 0.6, c + rng.vec() * 0.6].map(|p| p * scale)
+                })
+                .collect();
+            let bvh = Bvh::build(&mesh_of(&tris));
+            let mut hits = 0;
+            for i in 0..3000 {
+                let d = [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z][i % 6];
+                let o = (rng.vec() * 5.0 - d * 7.0) * scale;
+                let ray = Ray::new(o, d, 0.0);
+                let wray = WatertightRay::new(o, d, safe_reciprocal(d));
+                let brute = tris
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(i, t)| {
+                        wray.intersect(&t.map(|p| p.to_array()), f32::INFINITY).map(|h| (i, h.t))
+                    })
+                    .min_by(|a, b| a.1.total_cmp(&b.1));
+                let got = bvh.intersect(&ray, f32::INFINITY).map(|h| (h.triangle as usize, h.t));
+                assert_eq!(got, brute, "scale {scale}, ray {ray:?}");
+                hits += brute.is_some() as u32;
+            }
+            assert!(hits > 300, "scale {scale}: only {hits} rays hit");
         }
     }
 

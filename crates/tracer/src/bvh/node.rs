@@ -39,11 +39,17 @@ pub(super) fn intersect(node: &CwBvhNode, ray: &NodeRay, t_max: f32, oct_inv4: u
     hit_mask
 }
 
-/// Per-axis slab parameters in the node's quantised frame: t = q · scale + offset.
+/// Per-axis slab parameters in the node's quantised frame: t = (q · extent + offset) · inv.
+///
+/// The plane is placed in world units first and only then divided by the direction: the
+/// shorter q · (extent · inv) + offset · inv overflowed extent · inv to ∞ for axis-parallel
+/// rays (inv clamped to 1e30) once a node quantum passed ~3e8 (scenes past ~1e11 across), and
+/// q = 0 then gave 0 · ∞ = NaN, silently culling the child. Here the plane is finite and inv
+/// finite and non-zero, so t is finite or ±∞, never NaN.
 #[inline(always)]
-fn axis(node: &CwBvhNode, ray: &NodeRay, a: usize) -> (f32, f32) {
+fn axis(node: &CwBvhNode, ray: &NodeRay, a: usize) -> (f32, f32, f32) {
     let extent = f32::from_bits((node.e[a] as u32) << 23);
-    (extent * ray.inv_dir[a], (node.p[a] - ray.origin[a]) * ray.inv_dir[a])
+    (extent, node.p[a] - ray.origin[a], ray.inv_dir[a])
 }
 
 /// Bit c set when child c's box overlaps the ray's (0, t_max) span. (An empty slot's box is
@@ -74,14 +80,15 @@ fn child_hits(node: &CwBvhNode, ray: &NodeRay, t_max: f32) -> u32 {
         let mut far = (_mm_set1_ps(t_max), _mm_set1_ps(t_max));
         for (a, (lo, hi)) in lo_hi.into_iter().enumerate() {
             let (near_q, far_q) = if ray.negative[a] { (hi, lo) } else { (lo, hi) };
-            let (scale, offset) = axis(node, ray, a);
-            let (scale, offset) = (_mm_set1_ps(scale), _mm_set1_ps(offset));
+            let (extent, offset, inv) = axis(node, ray, a);
+            let (extent, offset, inv) = (_mm_set1_ps(extent), _mm_set1_ps(offset), _mm_set1_ps(inv));
+            let slab = |q| _mm_mul_ps(_mm_add_ps(_mm_mul_ps(q, extent), offset), inv);
             let (n0, n1) = planes(near_q);
             let (f0, f1) = planes(far_q);
-            near.0 = _mm_max_ps(near.0, _mm_add_ps(_mm_mul_ps(n0, scale), offset));
-            near.1 = _mm_max_ps(near.1, _mm_add_ps(_mm_mul_ps(n1, scale), offset));
-            far.0 = _mm_min_ps(far.0, _mm_add_ps(_mm_mul_ps(f0, scale), offset));
-            far.1 = _mm_min_ps(far.1, _mm_add_ps(_mm_mul_ps(f1, scale), offset));
+            near.0 = _mm_max_ps(near.0, slab(n0));
+            near.1 = _mm_max_ps(near.1, slab(n1));
+            far.0 = _mm_min_ps(far.0, slab(f0));
+            far.1 = _mm_min_ps(far.1, slab(f1));
         }
         let lo = _mm_movemask_ps(_mm_cmple_ps(near.0, far.0)) as u32;
         let hi = _mm_movemask_ps(_mm_cmple_ps(near.1, far.1)) as u32;
@@ -102,10 +109,10 @@ fn child_hits(node: &CwBvhNode, ray: &NodeRay, t_max: f32) -> u32 {
     let mut t_far = [t_max; 8];
     for (a, (lo, hi)) in lo_hi.into_iter().enumerate() {
         let (near_q, far_q) = if ray.negative[a] { (hi, lo) } else { (lo, hi) };
-        let (scale, offset) = axis(node, ray, a);
+        let (extent, offset, inv) = axis(node, ray, a);
         for c in 0..8 {
-            t_near[c] = t_near[c].max(near_q[c] as f32 * scale + offset);
-            t_far[c] = t_far[c].min(far_q[c] as f32 * scale + offset);
+            t_near[c] = t_near[c].max((near_q[c] as f32 * extent + offset) * inv);
+            t_far[c] = t_far[c].min((far_q[c] as f32 * extent + offset) * inv);
         }
     }
     (0..8).filter(|&c| t_near[c] <= t_far[c]).fold(0, |m, c| m | (1 << c))
