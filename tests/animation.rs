@@ -14,6 +14,9 @@
 //! - Scene time: a glTF with an animated node (the mesh, or the camera) renders where the hand-
 //!   computed pose puts it at frame / fps, and `--fps` changes which time is sampled.
 
+mod common;
+
+use common::{Scratch, mcctrace};
 use glam::Vec3;
 use mcc::{RayFile, StoredRay};
 use std::path::{Path, PathBuf};
@@ -27,34 +30,6 @@ use tracer::image_io::read_exr;
 mod scene_time;
 
 const CORNELL: &str = "scenes/cornell/cornell.gltf";
-
-fn mcctrace(args: &[&str]) -> anyhow::Result<()> {
-    mcctrace_cli::try_run(std::iter::once("mcctrace").chain(args.iter().copied()))
-}
-
-/// A scratch directory removed on drop.
-struct Scratch(PathBuf);
-
-impl Scratch {
-    fn new(name: &str) -> Self {
-        let dir = std::env::temp_dir().join(format!("mcctrace-anim-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        Self(dir)
-    }
-    fn path(&self, name: &str) -> PathBuf {
-        self.0.join(name)
-    }
-    fn s(&self, name: &str) -> String {
-        self.path(name).display().to_string()
-    }
-}
-
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
 
 /// The file names in `dir`, sorted.
 fn names(dir: &Path) -> Vec<String> {

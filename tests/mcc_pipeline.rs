@@ -14,7 +14,8 @@
 mod common;
 
 use common::golden::{Sampled, assert_darker_fails, check_golden};
-use std::path::{Path, PathBuf};
+use common::{Scratch, mcctrace};
+use std::path::Path;
 use tracer::compare::{Estimate, StatTest};
 use tracer::image::RgbImage;
 use tracer::image_io::read_exr;
@@ -23,34 +24,6 @@ const CORNELL: &str = "scenes/cornell/cornell.gltf";
 // 96² at 128 spp: enough samples that a 2 % bias shows (image-level z ≈ 7 > 5).
 const SIZE: u32 = 96;
 const RES: &str = "96x96";
-
-fn mcctrace(args: &[&str]) -> anyhow::Result<()> {
-    mcctrace_cli::try_run(std::iter::once("mcctrace").chain(args.iter().copied()))
-}
-
-/// A scratch directory removed on drop.
-struct Scratch(PathBuf);
-
-impl Scratch {
-    fn new(name: &str) -> Self {
-        let dir = std::env::temp_dir().join(format!("mcctrace-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        Self(dir)
-    }
-    fn path(&self, name: &str) -> PathBuf {
-        self.0.join(name)
-    }
-    fn s(&self, name: &str) -> String {
-        self.path(name).display().to_string()
-    }
-}
-
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
 
 /// Views 1 (the scene's camera) and 2 (a second camera to its right, turned towards the box)
 /// with the lens writer and tagger.

@@ -73,7 +73,7 @@ fn centroid_x(img: &RgbImage) -> f64 {
 fn scene_time_poses_animated_meshes_and_cameras_at_frame_over_fps() {
     let dir = Scratch::new("scene-time");
     // The square moves from x = −0.5 (0 s) to 0.5 (1 s): its image centre is at 16·(1 + x) px.
-    let quad = write_animated_gltf(&dir.0, "quad", -0.5, 0.5);
+    let quad = write_animated_gltf(dir.dir(), "quad", -0.5, 0.5);
     let mut images = Vec::new();
     for (frame, fps, x) in
         [(0, "24", -0.5), (12, "24", 0.0), (24, "24", 0.5), (6, "24", -0.25), (24, "48", 0.0)]
@@ -104,7 +104,7 @@ fn scene_time_poses_animated_meshes_and_cameras_at_frame_over_fps() {
     assert!((c - 24.0).abs() < 0.1, "2 s holds the 1 s pose: {c}");
 
     // The camera moves from x = 0 to 1 past a still square: the square's image moves left.
-    let eye = write_animated_gltf(&dir.0, "eye", 0.0, 1.0);
+    let eye = write_animated_gltf(dir.dir(), "eye", 0.0, 1.0);
     for (frame, x) in [(0, 0.0), (12, 0.5), (18, 0.75)] {
         let c = centroid_x(&render_frame(&eye, &dir.path(&format!("e{frame}.exr")), frame, "24"));
         assert!((c - 16.0 * (1.0 - x)).abs() < 0.1, "camera at x = {x}: centre {c}");

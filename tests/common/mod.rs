@@ -375,3 +375,40 @@ pub fn maybe_save(name: &str, image: &RgbImage) {
 pub fn v2(x: f32, y: f32) -> Vec2 {
     Vec2::new(x, y)
 }
+
+/// Runs `mcctrace ARGS…` in-process (what the binary's `main` does, without exiting).
+pub fn mcctrace(args: &[&str]) -> anyhow::Result<()> {
+    mcctrace_cli::try_run(std::iter::once("mcctrace").chain(args.iter().copied()))
+}
+
+/// A scratch directory under the system temporary directory, unique per test process and
+/// name, removed on drop.
+pub struct Scratch(PathBuf);
+
+impl Scratch {
+    /// An empty directory `mcctrace-NAME-PID`.
+    pub fn new(name: &str) -> Self {
+        let dir = std::env::temp_dir().join(format!("mcctrace-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        Self(dir)
+    }
+    /// The directory itself.
+    pub fn dir(&self) -> &Path {
+        &self.0
+    }
+    /// `name` inside the directory.
+    pub fn path(&self, name: &str) -> PathBuf {
+        self.0.join(name)
+    }
+    /// `name` inside the directory, as a string for a command line.
+    pub fn s(&self, name: &str) -> String {
+        self.path(name).display().to_string()
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}

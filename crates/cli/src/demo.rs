@@ -5,7 +5,7 @@
 use crate::args::Resolution;
 use crate::collage::default_labels;
 use crate::output::{Png, RenderInfo, write_render};
-use crate::remap::{CollageInputArgs, remap_collage};
+use crate::remap::{CollageInputArgs, RemapSettingsArgs, remap_collage};
 use crate::render::{QualityArgs, load_scene, prepare, render_camera, summary};
 use crate::rerender::render_with_rays;
 use anyhow::Context;
@@ -179,11 +179,7 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
         collage: Some(collage.clone()),
         rays: Some(views_dir.clone()),
         regions: Some(regions),
-        ignore_strays: false,
-        tag_bits: code.bits(),
-        blur1: mcc::RemapConfig::GLASSNER.first_blur_radius,
-        blur2: mcc::RemapConfig::GLASSNER.second_blur_radius,
-        ease: mcc::RemapConfig::GLASSNER.ease_control,
+        settings: RemapSettingsArgs::glassner(code.bits()),
         debug_dir: Some(debug_dir.clone()),
     };
     let remapped = remap_collage(&input, 0, a.quiet)?;

@@ -11,6 +11,7 @@ use crate::collage::default_labels;
 use crate::demo::{DemoArgs, DemoCamera, DemoView, quality, render_tagged_views, scenes_dir};
 use crate::inbetween::{InbetweenOutputArgs, ModeArg, write_inbetweens};
 use crate::keys::{KeysArgs, remap_keys};
+use crate::remap::RemapSettingsArgs;
 use crate::render::RayFormatArg;
 use anyhow::{Context, bail};
 use glam::{UVec2, Vec3};
@@ -136,11 +137,7 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
             format!("{last}={}", collage1.display()).parse().map_err(anyhow::Error::msg)?,
         ],
         rays: views_dir.clone(),
-        ignore_strays: false,
-        tag_bits: code.bits(),
-        blur1: mcc::RemapConfig::GLASSNER.first_blur_radius,
-        blur2: mcc::RemapConfig::GLASSNER.second_blur_radius,
-        ease: mcc::RemapConfig::GLASSNER.ease_control,
+        settings: RemapSettingsArgs::glassner(code.bits()),
         output,
     };
     let keys = Keys::new(remap_keys(&keys_args)?, Some(a.frame_res.0))?;

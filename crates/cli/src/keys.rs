@@ -4,7 +4,7 @@
 
 use crate::args::KeyArg;
 use crate::inbetween::{InbetweenOutputArgs, write_inbetweens};
-use crate::remap::{CollageInputArgs, remap_collage};
+use crate::remap::{CollageInputArgs, RemapSettingsArgs, remap_collage};
 use anyhow::{Context, bail};
 use clap::Args;
 use mcc::inbetween::Keys;
@@ -22,21 +22,9 @@ pub struct KeysArgs {
     /// (frameFFFFcameraCC.mcr or .txt, as `render --lens-writer` names them).
     #[arg(long)]
     pub rays: PathBuf,
-    /// Treat stray pixels (non-background with no usable camera id) as background.
-    #[arg(long)]
-    pub ignore_strays: bool,
-    /// Bits per channel of the camera tag.
-    #[arg(long, default_value_t = 2)]
-    pub tag_bits: u8,
-    /// Radius of the remapper's first box blur.
-    #[arg(long, default_value_t = mcc::RemapConfig::GLASSNER.first_blur_radius)]
-    pub blur1: u32,
-    /// Radius of the remapper's second box blur.
-    #[arg(long, default_value_t = mcc::RemapConfig::GLASSNER.second_blur_radius)]
-    pub blur2: u32,
-    /// Control value of the remapper's ease curve (0.5: no easing).
-    #[arg(long, default_value_t = mcc::RemapConfig::GLASSNER.ease_control)]
-    pub ease: f32,
+    /// How each collage is read and remapped.
+    #[command(flatten)]
+    pub settings: RemapSettingsArgs,
     #[command(flatten)]
     pub output: InbetweenOutputArgs,
 }
@@ -70,11 +58,7 @@ pub fn remap_keys(a: &KeysArgs) -> anyhow::Result<Vec<(u32, mcc::RayFile)>> {
                 collage: Some(collage.clone()),
                 rays: Some(a.rays.clone()),
                 regions,
-                ignore_strays: a.ignore_strays,
-                tag_bits: a.tag_bits,
-                blur1: a.blur1,
-                blur2: a.blur2,
-                ease: a.ease,
+                settings: a.settings.clone(),
                 debug_dir: None,
             };
             let out = remap_collage(&input, k.frame, a.output.quiet)

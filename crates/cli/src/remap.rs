@@ -17,6 +17,17 @@ pub struct CollageInputArgs {
     /// Region image (default: <collage-stem>-regions.png beside the collage, if present).
     #[arg(long)]
     pub regions: Option<PathBuf>,
+    /// How the collage is read and remapped.
+    #[command(flatten)]
+    pub settings: RemapSettingsArgs,
+    /// Write debug pictures (each camera's edges and weights, the dominant camera) here.
+    #[arg(long)]
+    pub debug_dir: Option<PathBuf>,
+}
+
+/// Collage-reading and remapper settings, shared by `remap`, `rerender` and `keys`.
+#[derive(Args, Debug, Clone)]
+pub struct RemapSettingsArgs {
     /// Treat stray pixels (non-background with no usable camera id, e.g. an antialiased
     /// selection edge) as background instead of refusing the collage.
     #[arg(long)]
@@ -33,9 +44,19 @@ pub struct CollageInputArgs {
     /// Control value of the remapper's ease curve (0.5: no easing).
     #[arg(long, default_value_t = mcc::RemapConfig::GLASSNER.ease_control)]
     pub ease: f32,
-    /// Write debug pictures (each camera's edges and weights, the dominant camera) here.
-    #[arg(long)]
-    pub debug_dir: Option<PathBuf>,
+}
+
+impl RemapSettingsArgs {
+    /// Glassner's remapper settings with `tag_bits` bits per channel, strays refused.
+    pub fn glassner(tag_bits: u8) -> Self {
+        Self {
+            ignore_strays: false,
+            tag_bits,
+            blur1: mcc::RemapConfig::GLASSNER.first_blur_radius,
+            blur2: mcc::RemapConfig::GLASSNER.second_blur_radius,
+            ease: mcc::RemapConfig::GLASSNER.ease_control,
+        }
+    }
 }
 
 /// Arguments of `mcctrace remap`.
@@ -62,15 +83,16 @@ pub fn remap_collage(input: &CollageInputArgs, frame: u32, quiet: bool) -> anyho
     let (Some(collage), Some(rays)) = (&input.collage, &input.rays) else {
         anyhow::bail!("give both --collage and --rays (or --lens FILE for rerender)");
     };
+    let settings = &input.settings;
     let config = mcc::RemapConfig {
-        first_blur_radius: input.blur1,
-        second_blur_radius: input.blur2,
-        ease_control: input.ease,
+        first_blur_radius: settings.blur1,
+        second_blur_radius: settings.blur2,
+        ease_control: settings.ease,
         debug: input.debug_dir.is_some(),
     };
     let options = mcc::CollageOptions {
-        tag: mcc::TagCode::new(input.tag_bits)?,
-        strays: if input.ignore_strays { mcc::StrayPolicy::Background } else { mcc::StrayPolicy::Refuse },
+        tag: mcc::TagCode::new(settings.tag_bits)?,
+        strays: if settings.ignore_strays { mcc::StrayPolicy::Background } else { mcc::StrayPolicy::Refuse },
     };
     let inputs = mcc::remap::RemapInputs {
         collage,
