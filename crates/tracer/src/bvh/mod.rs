@@ -1,14 +1,16 @@
-//! The acceleration structure: an obvhs compressed wide BVH8 (Ylitie et al. 2017) over the
-//! scene's triangles, with closest-hit and occlusion (any-hit, early exit) queries. obvhs types
-//! stay behind this module.
+//! The acceleration structure: a wide BVH8 built by obvhs as a compressed wide BVH (Ylitie et
+//! al. 2017, obvhs's medium preset) over the scene's triangles, with closest-hit and occlusion
+//! (any-hit, early exit) queries. obvhs types stay behind this module.
 //!
-//! obvhs builds the tree and its `traverse!` macro walks it; the two tests inside the walk are
-//! ours, which is how its traps (NOTES.md) are closed:
-//! - the node test (`node.rs`) has no 1e-4 entry cut-off, so nearby geometry in small scenes is
-//!   never culled, and it derives slab order and reciprocals from one sanitised direction
-//!   (obvhs's test misses everything for a −0.0 component and clamps components below
-//!   f32::EPSILON);
-//! - `primitive_id` is a slot in `primitive_indices`: triangles are stored reordered by slot;
+//! obvhs builds the tree; traversal is ours, on the same tree stored uncompressed
+//! (`node.rs`), which is how its traps (NOTES.md) are closed and what makes a query cheap:
+//! - child boxes are exact f32 boxes of their triangles, tested with no 1e-4 entry cut-off,
+//!   so nearby geometry in small scenes is never culled; slab order and reciprocals come from
+//!   one sanitised direction (obvhs's test misses everything for a −0.0 component and clamps
+//!   components below f32::EPSILON); exits are widened by 1 + 2γ₃ (Ize, "Robust BVH Ray
+//!   Traversal", JCGT 2(2), 2013) so rounding never culls a box that holds a hit;
+//! - children are visited nearest first from a fixed stack (no allocation per query);
+//! - triangles are stored in the order obvhs's leaves reference them (slots);
 //! - the triangle test is our watertight one (`crate::triangle`), in world space on the
 //!   original vertices (obvhs's Möller–Trumbore test is not watertight).
 
@@ -16,12 +18,13 @@ mod node;
 
 use crate::ray::Ray;
 use crate::scene::Mesh;
-use crate::triangle::{TriangleHit, WatertightRay, safe_reciprocal};
-use glam::{UVec2, Vec3};
-use node::NodeRay;
+use crate::triangle::{TriangleHit, WatertightRay};
+use glam::Vec3;
+use node::{NodeRay, WideNode};
+use obvhs::BvhBuildParams;
 use obvhs::aabb::Aabb;
 use obvhs::cwbvh::CwBvh;
-use obvhs::{BvhBuildParams, traverse};
+use std::mem::MaybeUninit;
 
 /// A ray–scene intersection.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -38,7 +41,8 @@ pub struct Hit {
 
 /// A bounding-volume hierarchy over a mesh's triangles.
 pub struct Bvh {
-    cwbvh: CwBvh,
+    /// The tree; node 0 is the root (empty when there are no triangles).
+    nodes: Vec<WideNode>,
     /// World-space corners, stored in BVH slot order.
     triangles: Vec<[[f32; 3]; 3]>,
     /// Slot → triangle index in the mesh.
@@ -51,31 +55,44 @@ pub struct Bvh {
 struct QueryRay {
     node: NodeRay,
     triangle: WatertightRay,
-    /// Traversal order octant, obvhs's encoding.
-    oct_inv4: u32,
-    /// Direction for obvhs's traversal bookkeeping (sign only).
-    direction: glam::Vec3A,
 }
 
 impl QueryRay {
     #[inline(always)]
     fn new(ray: &Ray) -> Self {
-        // +0.0 turns −0.0 into +0.0 (and leaves everything else alone), so the sign tests
-        // below and the reciprocals agree.
-        let d = ray.direction + glam::Vec3::ZERO;
-        let inv_dir = safe_reciprocal(d);
-        let negative = [d.x < 0.0, d.y < 0.0, d.z < 0.0];
-        let oct_inv4 = (if negative[0] { 0 } else { 0x0404_0404 })
-            | (if negative[1] { 0 } else { 0x0202_0202 })
-            | (if negative[2] { 0 } else { 0x0101_0101 });
-        Self {
-            node: NodeRay { origin: ray.origin.to_array(), inv_dir, negative },
-            triangle: WatertightRay::new(ray.origin, d, inv_dir),
-            oct_inv4,
-            direction: d.into(),
-        }
+        // +0.0 turns −0.0 into +0.0 (and leaves everything else alone), so the slab order
+        // and the reciprocals agree.
+        let d = ray.direction + Vec3::ZERO;
+        let node = NodeRay::new(ray.origin, d);
+        Self { triangle: WatertightRay::new(ray.origin, d, node.inv_dir), node }
     }
 }
+
+/// What a triangle test tells the walk.
+enum Step {
+    /// Not hit (or not accepted).
+    Miss,
+    /// Hit at this distance: only nearer hits matter from now on.
+    Closer(f32),
+    /// Hit, and that is all the query wanted.
+    Stop,
+}
+
+/// How a walk ended.
+#[derive(PartialEq)]
+enum Walk {
+    /// Every node in range was visited.
+    Done,
+    /// A triangle test said stop.
+    Stopped,
+    /// The fixed stack was too small for this tree (never for trees obvhs builds in practice;
+    /// the query then falls back to testing every triangle).
+    Overflow,
+}
+
+/// Entries of the traversal stack: each level of the tree adds at most seven, so this holds
+/// trees 36 levels deep (an 8-wide tree over 2^32 triangles needs about 11).
+const STACK: usize = 256;
 
 /// Above this magnitude (2^60 ≈ 1.2e18) the boxes are rescaled before obvhs builds on them.
 /// Its builder works in f32 on surface areas and costs, which overflow for boxes past ~1e19;
@@ -143,13 +160,14 @@ impl Bvh {
             .collect();
         let cwbvh = if aabbs.is_empty() { CwBvh::default() } else { build_in_range(aabbs) };
         let triangle_ids = cwbvh.primitive_indices.clone();
-        let triangles =
+        let triangles: Vec<[[f32; 3]; 3]> =
             triangle_ids.iter().map(|&t| mesh.corners(t as usize).map(|p| p.to_array())).collect();
         let mut slot_of = vec![0u32; triangle_ids.len()];
         for (slot, &t) in triangle_ids.iter().enumerate() {
             slot_of[t as usize] = slot as u32;
         }
-        Self { cwbvh, triangles, triangle_ids, slot_of }
+        let nodes = if triangles.is_empty() { Vec::new() } else { widen(&cwbvh, &triangles) };
+        Self { nodes, triangles, triangle_ids, slot_of }
     }
 
     /// Number of triangles.
@@ -189,24 +207,37 @@ impl Bvh {
         t_max: f32,
         accept: impl Fn(u32, [f32; 3]) -> bool,
     ) -> Option<Hit> {
-        if self.triangles.is_empty() {
+        self.closest::<STACK>(ray, t_max, accept)
+    }
+
+    /// [`Bvh::intersect_with`] with a stack of `N` entries.
+    #[inline(always)]
+    fn closest<const N: usize>(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        accept: impl Fn(u32, [f32; 3]) -> bool,
+    ) -> Option<Hit> {
+        if self.nodes.is_empty() {
             return None;
         }
         let q = QueryRay::new(ray);
         let mut best: Option<(u32, TriangleHit)> = None;
-        let mut best_t = t_max;
-        let mut state = self.cwbvh.new_traversal(q.direction);
-        state.oct_inv4 = q.oct_inv4;
-        let mut node;
-        traverse!(self.cwbvh, node, state, node::intersect(node, &q.node, best_t, state.oct_inv4), {
-            let slot = state.primitive_id;
-            if let Some(h) = q.triangle.intersect(&self.triangles[slot as usize], best_t) {
-                if accept(self.triangle_ids[slot as usize], h.b) {
-                    best_t = h.t;
+        let mut test =
+            |slot: u32, t_max: f32| match q.triangle.intersect(&self.triangles[slot as usize], t_max) {
+                Some(h) if accept(self.triangle_ids[slot as usize], h.b) => {
                     best = Some((slot, h));
+                    Step::Closer(h.t)
+                }
+                _ => Step::Miss,
+            };
+        if let (Walk::Overflow, mut t_max) = self.walk::<N>(&q.node, t_max, &mut test) {
+            for slot in 0..self.triangles.len() as u32 {
+                if let Step::Closer(t) = test(slot, t_max) {
+                    t_max = t;
                 }
             }
-        });
+        }
         best.map(|(slot, h)| Hit {
             t: h.t,
             triangle: self.triangle_ids[slot as usize],
@@ -225,33 +256,155 @@ impl Bvh {
     /// (0, t_max).
     #[inline]
     pub fn occluded_with(&self, ray: &Ray, t_max: f32, accept: impl Fn(u32, [f32; 3]) -> bool) -> bool {
-        if self.triangles.is_empty() {
+        self.any::<STACK>(ray, t_max, accept)
+    }
+
+    /// [`Bvh::occluded_with`] with a stack of `N` entries.
+    #[inline(always)]
+    fn any<const N: usize>(&self, ray: &Ray, t_max: f32, accept: impl Fn(u32, [f32; 3]) -> bool) -> bool {
+        if self.nodes.is_empty() {
             return false;
         }
         let q = QueryRay::new(ray);
-        let mut state = self.cwbvh.new_traversal(q.direction);
-        state.oct_inv4 = q.oct_inv4;
-        let mut node;
-        let mut blocked = false;
-        'search: {
-            traverse!(self.cwbvh, node, state, node::intersect(node, &q.node, t_max, state.oct_inv4), {
-                let slot = state.primitive_id as usize;
-                if let Some(h) = q.triangle.intersect(&self.triangles[slot], t_max) {
-                    if accept(self.triangle_ids[slot], h.b) {
-                        blocked = true;
-                        break 'search;
+        let mut test =
+            |slot: u32, t_max: f32| match q.triangle.intersect(&self.triangles[slot as usize], t_max) {
+                Some(h) if accept(self.triangle_ids[slot as usize], h.b) => Step::Stop,
+                _ => Step::Miss,
+            };
+        match self.walk::<N>(&q.node, t_max, &mut test).0 {
+            Walk::Done => false,
+            Walk::Stopped => true,
+            Walk::Overflow => {
+                (0..self.triangles.len() as u32).any(|slot| matches!(test(slot, t_max), Step::Stop))
+            }
+        }
+    }
+
+    /// Visits, nearest first, every node whose box the ray enters within (0, t_max), and runs
+    /// `test(slot, t_max)` on each triangle of their leaves; a closer hit shortens the ray.
+    /// Returns how the walk ended and the ray's final t_max.
+    #[inline(always)]
+    fn walk<const N: usize>(
+        &self,
+        ray: &NodeRay,
+        mut t_max: f32,
+        test: &mut impl FnMut(u32, f32) -> Step,
+    ) -> (Walk, f32) {
+        let mut stack = [MaybeUninit::<(u32, f32)>::uninit(); N];
+        let mut len = 0usize;
+        let mut node = &self.nodes[0];
+        loop {
+            let (mask, t_near) = node.intersect(ray, t_max);
+            let mut leaves = mask & node.leaves as u32;
+            while leaves != 0 {
+                let c = leaves.trailing_zeros() as usize;
+                leaves &= leaves - 1;
+                let first = node.index[c];
+                for slot in first..first + node.count[c] as u32 {
+                    match test(slot, t_max) {
+                        Step::Miss => {}
+                        Step::Closer(t) => t_max = t,
+                        Step::Stop => return (Walk::Stopped, t_max),
                     }
                 }
-            });
+            }
+            // Inner children go on the stack farthest first, so the nearest comes off next.
+            let mut inner = mask & node.inner as u32;
+            let mut order = [(0u32, 0.0f32); 8];
+            let mut n = 0;
+            while inner != 0 {
+                let c = inner.trailing_zeros() as usize;
+                inner &= inner - 1;
+                let entry = (node.index[c], t_near[c]);
+                let mut i = n;
+                while i > 0 && order[i - 1].1 < entry.1 {
+                    order[i] = order[i - 1];
+                    i -= 1;
+                }
+                order[i] = entry;
+                n += 1;
+            }
+            for &entry in &order[..n] {
+                let Some(slot) = stack.get_mut(len) else { return (Walk::Overflow, t_max) };
+                slot.write(entry);
+                len += 1;
+            }
+            // The nearest node still in range (a hit found since it was pushed may be nearer).
+            loop {
+                if len == 0 {
+                    return (Walk::Done, t_max);
+                }
+                len -= 1;
+                // SAFETY: every entry below `len` was written by the push above.
+                let (index, t) = unsafe { stack[len].assume_init() };
+                if t <= t_max {
+                    node = &self.nodes[index as usize];
+                    break;
+                }
+            }
         }
-        blocked
     }
+}
+
+/// The obvhs tree with exact child boxes: node i here is obvhs's node i; a leaf child's box
+/// is the box of its triangles, an inner child's the union of its children's.
+fn widen(cwbvh: &CwBvh, triangles: &[[[f32; 3]; 3]]) -> Vec<WideNode> {
+    // Parents before children (depth-first from the root), so the reverse order sees every
+    // child's box before its parent needs it.
+    let mut order = Vec::with_capacity(cwbvh.nodes.len());
+    let mut pending = vec![0usize];
+    while let Some(i) = pending.pop() {
+        order.push(i);
+        let src = &cwbvh.nodes[i];
+        pending.extend(
+            (0..8)
+                .filter(|&c| !src.is_child_empty(c) && !src.is_leaf(c))
+                .map(|c| src.child_node_index(c) as usize),
+        );
+    }
+    let mut nodes = vec![WideNode::EMPTY; cwbvh.nodes.len()];
+    let mut bounds = vec![None::<(Vec3, Vec3)>; cwbvh.nodes.len()];
+    for &i in order.iter().rev() {
+        let src = &cwbvh.nodes[i];
+        let wide = &mut nodes[i];
+        let mut total: Option<(Vec3, Vec3)> = None;
+        for c in 0..8 {
+            if src.is_child_empty(c) {
+                continue;
+            }
+            let child_box = if src.is_leaf(c) {
+                let (first, count) = src.child_primitives(c);
+                wide.index[c] = first;
+                wide.count[c] = count as u8;
+                wide.leaves |= 1 << c;
+                let corners = triangles[first as usize..(first + count) as usize].iter().flatten();
+                corners.fold(None, |b, &p| Some(grow(b, Vec3::from_array(p))))
+            } else {
+                let child = src.child_node_index(c) as usize;
+                wide.index[c] = child as u32;
+                wide.inner |= 1 << c;
+                bounds[child]
+            };
+            if let Some((lo, hi)) = child_box {
+                wide.set_box(c, lo, hi);
+                total = Some(total.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi))));
+            }
+        }
+        bounds[i] = total;
+    }
+    nodes
+}
+
+/// `b` grown to hold `p`.
+fn grow(b: Option<(Vec3, Vec3)>, p: Vec3) -> (Vec3, Vec3) {
+    b.map_or((p, p), |(lo, hi)| (lo.min(p), hi.max(p)))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::scene::MeshPart;
+    use crate::triangle::safe_reciprocal;
     use glam::Vec3;
 
     fn mesh_of(tris: &[[Vec3; 3]]) -> Mesh {
@@ -310,6 +463,33 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// With a stack too small for the tree, the walk reports the overflow instead of losing
+    /// nodes, and both queries fall back to testing every triangle: the same answers.
+    #[test]
+    fn stack_overflow_falls_back_to_every_triangle() {
+        let mut rng = Lcg(9);
+        let tris: Vec<[Vec3; 3]> = (0..2000)
+            .map(|_| {
+                let c = rng.vec() * 5.0;
+                [c + rng.vec() * 0.3, c + rng.vec() * 0.3, c + rng.vec() * 0.3]
+            })
+            .collect();
+        let bvh = Bvh::build(&mesh_of(&tris));
+        let mut overflows = 0;
+        for _ in 0..1000 {
+            let ray = Ray::new(rng.vec() * 6.0, rng.vec().normalize(), 0.0);
+            let q = QueryRay::new(&ray);
+            overflows +=
+                (bvh.walk::<1>(&q.node, f32::INFINITY, &mut |_, _| Step::Miss).0 == Walk::Overflow) as u32;
+            let full = bvh.intersect(&ray, f32::INFINITY);
+            assert_eq!(bvh.closest::<1>(&ray, f32::INFINITY, |_, _| true), full);
+            let t = full.map_or(f32::INFINITY, |h| h.t * 0.999);
+            assert_eq!(bvh.any::<1>(&ray, t, |_, _| true), bvh.occluded(&ray, t));
+            assert_eq!(bvh.any::<1>(&ray, f32::INFINITY, |_, _| true), full.is_some());
+        }
+        assert!(overflows > 500, "only {overflows} walks overflowed a one-entry stack");
     }
 
     /// Axis-parallel rays (reciprocal components clamped to ±1e30) answer like testing every
