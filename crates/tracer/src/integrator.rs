@@ -102,6 +102,10 @@ pub struct PathTracer {
     /// which case traversal runs without any test callback.
     alpha_tested: Option<Vec<bool>>,
     environment: Vec3,
+    /// Every emitter a BSDF-sampled ray could reach is also reached by light sampling (no
+    /// constant environment outside the light sampler), so the last vertex may estimate its
+    /// direct light by light sampling alone (see [`PathTracer::radiance`]).
+    lights_cover_emission: bool,
     config: IntegratorConfig,
 }
 
@@ -132,9 +136,12 @@ impl PathTracer {
             scene.materials.iter().any(Material::has_alpha).then(|| {
                 mesh.material_ids.iter().map(|&m| scene.materials[m as usize].has_alpha()).collect()
             });
+        let lights = LightSampler::new(scene);
+        let lights_cover_emission = lights.environment().is_some() || scene.environment.color == Vec3::ZERO;
         Ok(Self {
             bvh: Bvh::build(mesh),
-            lights: LightSampler::new(scene),
+            lights,
+            lights_cover_emission,
             materials: scene.materials.clone(),
             material_ids: mesh.material_ids.clone(),
             textures: scene.textures.clone(),
@@ -399,6 +406,14 @@ impl PathTracer {
                 if bsdf.is_black() {
                     break;
                 }
+                // At the last vertex the BSDF ray could only find emission, which light
+                // sampling already covers: estimate it by light sampling alone (weight 1) and
+                // skip that ray and its hit. Unbiased either way; done only on diffuse BSDFs
+                // (where a light sample is never the worse strategy by much) past the first
+                // vertex (direct light seen by the camera keeps MIS). On the Cornell box this
+                // saves one closest-hit query in every path that reaches the last vertex.
+                let light_only =
+                    depth + 1 == max_depth && depth > 0 && self.lights_cover_emission && bsdf.is_diffuse();
 
                 // Next-event estimation.
                 if let Some(ls) = self.lights.sample(si.p, u_light) {
@@ -419,13 +434,20 @@ impl PathTracer {
                             rays += 1;
                             if !self.occluded::<ALPHA>(&shadow, t_max) {
                                 let cos = ls.wi.dot(bsdf.shading_normal()).abs();
-                                let w = if ls.is_delta { 1.0 } else { power_heuristic(ls.pdf, bsdf_pdf) };
+                                let w = if ls.is_delta || light_only {
+                                    1.0
+                                } else {
+                                    power_heuristic(ls.pdf, bsdf_pdf)
+                                };
                                 l += beta * f * li * (cos * w / ls.pdf);
                             }
                         }
                     }
                 }
 
+                if light_only {
+                    break;
+                }
                 // Continue the path by sampling the BSDF.
                 let u_lobe = if bsdf.has_lobe_choice() { decide(0) } else { 0.5 };
                 let Some(bs) = bsdf.sample(Vec2::new(u0, u1), u_lobe) else { break };

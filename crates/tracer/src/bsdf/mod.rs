@@ -176,6 +176,12 @@ impl Bsdf {
         self.diffuse.max_element() == 0.0 && self.p_specular == 0.0
     }
 
+    /// True when the BSDF is the Lambert lobe alone (no specular lobe).
+    #[inline]
+    pub fn is_diffuse(&self) -> bool {
+        self.p_specular == 0.0
+    }
+
     /// True when sampling must choose between two lobes (and so needs a number for it).
     #[inline]
     pub fn has_lobe_choice(&self) -> bool {
