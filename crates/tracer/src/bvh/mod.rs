@@ -68,9 +68,9 @@ impl QueryRay {
     }
 }
 
-/// What a triangle test tells the walk.
+/// What a triangle hit means to the query.
 enum Step {
-    /// Not hit (or not accepted).
+    /// Not accepted: the hit does not count.
     Miss,
     /// Hit at this distance: only nearer hits matter from now on.
     Closer(f32),
@@ -223,20 +223,16 @@ impl Bvh {
         }
         let q = QueryRay::new(ray);
         let mut best: Option<(u32, TriangleHit)> = None;
-        let mut test =
-            |slot: u32, t_max: f32| match q.triangle.intersect(&self.triangles[slot as usize], t_max) {
-                Some(h) if accept(self.triangle_ids[slot as usize], h.b) => {
-                    best = Some((slot, h));
-                    Step::Closer(h.t)
-                }
-                _ => Step::Miss,
-            };
-        if let (Walk::Overflow, mut t_max) = self.walk::<N>(&q.node, t_max, &mut test) {
-            for slot in 0..self.triangles.len() as u32 {
-                if let Step::Closer(t) = test(slot, t_max) {
-                    t_max = t;
-                }
+        let mut on_hit = |slot: u32, h: TriangleHit| {
+            if accept(self.triangle_ids[slot as usize], h.b) {
+                best = Some((slot, h));
+                Step::Closer(h.t)
+            } else {
+                Step::Miss
             }
+        };
+        if let (Walk::Overflow, t_max) = self.walk::<N>(&q, t_max, &mut on_hit) {
+            self.test_all(&q, t_max, &mut on_hit);
         }
         best.map(|(slot, h)| Hit {
             t: h.t,
@@ -266,42 +262,61 @@ impl Bvh {
             return false;
         }
         let q = QueryRay::new(ray);
-        let mut test =
-            |slot: u32, t_max: f32| match q.triangle.intersect(&self.triangles[slot as usize], t_max) {
-                Some(h) if accept(self.triangle_ids[slot as usize], h.b) => Step::Stop,
-                _ => Step::Miss,
-            };
-        match self.walk::<N>(&q.node, t_max, &mut test).0 {
+        let mut on_hit = |slot: u32, h: TriangleHit| {
+            if accept(self.triangle_ids[slot as usize], h.b) { Step::Stop } else { Step::Miss }
+        };
+        match self.walk::<N>(&q, t_max, &mut on_hit).0 {
             Walk::Done => false,
             Walk::Stopped => true,
-            Walk::Overflow => {
-                (0..self.triangles.len() as u32).any(|slot| matches!(test(slot, t_max), Step::Stop))
-            }
+            Walk::Overflow => self.test_all(&q, t_max, &mut on_hit) == Walk::Stopped,
         }
     }
 
-    /// Visits, nearest first, every node whose box the ray enters within (0, t_max), and runs
-    /// `test(slot, t_max)` on each triangle of their leaves; a closer hit shortens the ray.
-    /// Returns how the walk ended and the ray's final t_max.
+    /// Tests every triangle, in slot order (the fallback when a walk overflows its stack).
+    #[cold]
+    fn test_all(
+        &self,
+        q: &QueryRay,
+        mut t_max: f32,
+        on_hit: &mut impl FnMut(u32, TriangleHit) -> Step,
+    ) -> Walk {
+        for (slot, tri) in self.triangles.iter().enumerate() {
+            if let Some(h) = q.triangle.intersect(tri, t_max) {
+                match on_hit(slot as u32, h) {
+                    Step::Miss => {}
+                    Step::Closer(t) => t_max = t,
+                    Step::Stop => return Walk::Stopped,
+                }
+            }
+        }
+        Walk::Done
+    }
+
+    /// Visits, nearest first, every node whose box the ray enters within (0, t_max), tests
+    /// the triangles of their leaves and hands each hit to `on_hit(slot, hit)`, whose answer
+    /// may shorten the ray or end the walk. Returns how the walk ended and the final t_max.
     #[inline(always)]
     fn walk<const N: usize>(
         &self,
-        ray: &NodeRay,
+        q: &QueryRay,
         mut t_max: f32,
-        test: &mut impl FnMut(u32, f32) -> Step,
+        on_hit: &mut impl FnMut(u32, TriangleHit) -> Step,
     ) -> (Walk, f32) {
         let mut stack = [MaybeUninit::<(u32, f32)>::uninit(); N];
         let mut len = 0usize;
         let mut node = &self.nodes[0];
         loop {
-            let (mask, t_near) = node.intersect(ray, t_max);
+            let (mask, t_near) = node.intersect(&q.node, t_max);
             let mut leaves = mask & node.leaves as u32;
             while leaves != 0 {
                 let c = leaves.trailing_zeros() as usize;
                 leaves &= leaves - 1;
                 let first = node.index[c];
                 for slot in first..first + node.count[c] as u32 {
-                    match test(slot, t_max) {
+                    let Some(h) = q.triangle.intersect(&self.triangles[slot as usize], t_max) else {
+                        continue;
+                    };
+                    match on_hit(slot, h) {
                         Step::Miss => {}
                         Step::Closer(t) => t_max = t,
                         Step::Stop => return (Walk::Stopped, t_max),
@@ -482,7 +497,7 @@ mod tests {
             let ray = Ray::new(rng.vec() * 6.0, rng.vec().normalize(), 0.0);
             let q = QueryRay::new(&ray);
             overflows +=
-                (bvh.walk::<1>(&q.node, f32::INFINITY, &mut |_, _| Step::Miss).0 == Walk::Overflow) as u32;
+                (bvh.walk::<1>(&q, f32::INFINITY, &mut |_, _| Step::Miss).0 == Walk::Overflow) as u32;
             let full = bvh.intersect(&ray, f32::INFINITY);
             assert_eq!(bvh.closest::<1>(&ray, f32::INFINITY, |_, _| true), full);
             let t = full.map_or(f32::INFINITY, |h| h.t * 0.999);
