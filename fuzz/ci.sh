@@ -117,13 +117,15 @@ for target in "${TARGETS[@]}"; do
     failed+=("$target")
     summary+=("$target: FAILED (status $status) after ${execs:-?} executions in $elapsed s")
   else
-    [ -n "$execs" ] || fail "$target: libFuzzer printed no stat::number_of_executed_units (see $logs/$target.log)"
-    summary+=("$target: $execs executions in $elapsed s, corpus $corpus_size inputs, no crash")
+    [ -n "$execs" ] ||
+      fail "$target: libFuzzer printed no stat::number_of_executed_units (see $logs/$target.log)"
+    summary+=("$target: $execs executions in $elapsed s, corpus $corpus_size inputs after, no crash")
   fi
 done
 
 echo "== fuzzing summary"
 printf '  %s\n' "${summary[@]}"
 if [ "${#failed[@]}" -ne 0 ]; then
-  fail "libFuzzer found problems in: ${failed[*]} (artifacts in $FUZZ_DIR/artifacts/; fuzz/README.md says how to fix)"
+  fail "libFuzzer found problems in: ${failed[*]}" \
+    "(artifacts in $FUZZ_DIR/artifacts/; fuzz/README.md, 'Reproducing a crash', says what next)"
 fi
