@@ -282,6 +282,27 @@ pub(crate) fn mcc_cases(add: &mut impl FnMut(Case)) {
         .args(&format!("render {{dir}}/huge-texture.gltf {QUICK} --out {{out}}/render.exr"))
         .warns(&["warning:", "huge-texture.gltf", "absurd-texture.png", "1000000 × 1000000"], RENDER_OUTPUTS)
         .memory());
+    // Headers claiming 16384 × 16384 (exactly the MAX_PIXELS cap, so allowed) in a 59-byte file
+    // whose IDAT holds only a zlib header: refused for what the file can hold, before the decoder
+    // (which reserves the image once it finds an IDAT) takes 1 GiB as 8-bit RGB, or 2 GiB as
+    // 16-bit RGBA, past the child's address space.
+    let truncated_max = |color_type: u8, depth: u8| {
+        let mut png = png_start(16384, 16384, depth, color_type);
+        png_chunk(&mut png, b"IDAT", &[0x78, 0x9c]);
+        png_chunk(&mut png, b"IEND", &[]);
+        png
+    };
+    let short_claim = "header claims 16384 × 16384 pixels but the file is only 59 bytes";
+    add(remap(g, "collage-png-truncated-max-header", truncated_max(2, 8))
+        .views()
+        .fails(&["collage.png", "cannot decode the image", short_claim])
+        .memory());
+    add(Case::new(g, "gltf-texture-truncated-max-header")
+        .corpus("gltf/huge-texture.gltf")
+        .file("absurd-texture.png", truncated_max(6, 16))
+        .args(&format!("render {{dir}}/huge-texture.gltf {QUICK} --out {{out}}/render.exr"))
+        .warns(&["warning:", "huge-texture.gltf", "absurd-texture.png", short_claim], RENDER_OUTPUTS)
+        .memory());
     add(render(g, "gltf-viewless-huge-count", "gltf/viewless-huge-count.gltf")
         .fails(&["viewless-huge-count.gltf", "accessor 0", "4000000000"])
         .memory());

@@ -8,7 +8,9 @@ use image::codecs::png::PngEncoder;
 use std::path::Path;
 
 /// Decodes the image at `path`; errors name the file. Sizes past the tracer's
-/// [`MAX_PIXELS`](tracer::image_io::MAX_PIXELS) are refused from the header, before decoding.
+/// [`MAX_PIXELS`](tracer::image_io::MAX_PIXELS), or more than the file could hold
+/// ([`check_png_data_size`](tracer::image_io::check_png_data_size)), are refused from the header,
+/// before decoding.
 pub fn read_image(path: &Path) -> Result<DynamicImage> {
     let bytes = std::fs::read(path).map_err(|e| MccError::io(path, e))?;
     let undecodable = |why: String| MccError::image(path, format!("cannot decode the image: {why}"));
@@ -17,6 +19,7 @@ pub fn read_image(path: &Path) -> Result<DynamicImage> {
     }
     if let Some((width, height)) = tracer::image_io::png_header_size(&bytes) {
         tracer::image_io::check_claimed_size(width, height).map_err(undecodable)?;
+        tracer::image_io::check_png_data_size(&bytes).map_err(undecodable)?;
     }
     let reader = image::ImageReader::new(std::io::Cursor::new(&bytes))
         .with_guessed_format()

@@ -45,6 +45,49 @@ pub fn png_header_size(bytes: &[u8]) -> Option<(u32, u32)> {
     Some((be32(16), be32(20)))
 }
 
+/// The most bytes of output one byte of a deflate stream can decode to, with margin: a 258-byte
+/// match coded in 2 bits (1-bit length and distance codes) is deflate's best case, 1032:1.
+const DEFLATE_MAX_EXPANSION: u128 = 1100;
+/// Bytes allowed on top of [`DEFLATE_MAX_EXPANSION`] × file length, so a tiny file's bound is
+/// never below a few rows of a legitimate image.
+const DEFLATE_SLACK: u128 = 1024;
+
+/// Refuses a PNG whose IHDR claims more pixel data than a file of `bytes.len()` bytes can hold
+/// (a truncated or damaged file): the image crate's decoder reserves the whole claimed image as
+/// soon as it finds an IDAT chunk, before it reads the data, so 50 bytes claiming 16384 × 16384
+/// RGBA would cost 1 GiB. The
+/// bound is the least the decompressed image data can be (`height` rows of
+/// ⌈`width` × bits per pixel / 8⌉ bytes plus a filter byte each; interlaced images need at
+/// least as much) against the most deflate can expand the whole file to, so no PNG that would
+/// decode is refused. Not a PNG (no signature and IHDR): `Ok`, other checks apply. The message
+/// says what the file claims (callers name the file).
+pub fn check_png_data_size(bytes: &[u8]) -> Result<(), String> {
+    let Some((width, height)) = png_header_size(bytes) else { return Ok(()) };
+    let (depth, color_type) = match (bytes.get(24), bytes.get(25)) {
+        (Some(&depth), Some(&color_type)) => (depth, color_type),
+        _ => return Ok(()), // No depth or colour type: the decoder refuses the header itself.
+    };
+    let channels: u128 = match color_type {
+        2 => 3,
+        4 => 2,
+        6 => 4,
+        _ => 1, // Grey and palette; an unknown type has at least one channel too.
+    };
+    let bits_per_pixel = channels * u128::from(depth.max(1));
+    let row_bytes = (u128::from(width) * bits_per_pixel).div_ceil(8) + 1;
+    let least_data = u128::from(height) * row_bytes;
+    let most_data = DEFLATE_MAX_EXPANSION * bytes.len() as u128 + DEFLATE_SLACK;
+    if least_data > most_data {
+        return Err(format!(
+            "header claims {width} × {height} pixels but the file is only {} bytes, too short to hold \
+             their {least_data} bytes of pixel data even at deflate's best compression (truncated or \
+             damaged)",
+            bytes.len()
+        ));
+    }
+    Ok(())
+}
+
 /// Refuses an image size a reader will not allocate for: no pixel, or more than [`MAX_PIXELS`].
 /// The message says what the file claims (callers name the file).
 pub fn check_claimed_size(width: u32, height: u32) -> Result<(), String> {

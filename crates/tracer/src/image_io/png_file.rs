@@ -1,6 +1,6 @@
 //! PNG: 8-bit sRGB previews of linear renders, and lossless 8-bit images as they are.
 
-use super::{MAX_PIXELS, check_dimensions};
+use super::{MAX_PIXELS, check_dimensions, check_png_data_size};
 use crate::atomic::write_atomically;
 use crate::error::{Result, TracerError};
 use crate::image::RgbImage;
@@ -81,8 +81,10 @@ fn write_png8(path: &Path, width: u32, height: u32, bytes: &[u8], color: Extende
 /// Reads an 8-bit PNG (grey, grey + alpha, RGB or RGBA) losslessly, bytes as stored.
 ///
 /// Refuses, naming what the file is: other bit depths (1, 2, 4, 16), palette (indexed-colour)
-/// images, sizes over [`MAX_PIXELS`], and malformed files. Gamma and colour-profile chunks are
-/// ignored; a `tRNS` chunk becomes an alpha channel (so an RGB file may read as 4 channels).
+/// images, sizes over [`MAX_PIXELS`], headers claiming more pixels than the file could hold
+/// ([`check_png_data_size`], before anything is allocated), and malformed files. Gamma and
+/// colour-profile chunks are ignored; a `tRNS` chunk becomes an alpha channel (so an RGB file
+/// may read as 4 channels).
 pub fn read_png8(path: &Path) -> Result<Png8> {
     let bad = |message: String| TracerError::image(path, message);
     let bytes = std::fs::read(path).map_err(|e| TracerError::io(path, e))?;
@@ -112,6 +114,7 @@ pub fn read_png8(path: &Path) -> Result<Png8> {
     if width == 0 || height == 0 || width as u64 * height as u64 > MAX_PIXELS {
         return Err(bad(format!("header claims {width} × {height} pixels; 1 to {MAX_PIXELS} are accepted")));
     }
+    check_png_data_size(&bytes).map_err(bad)?;
     let mut reader = ImageReader::with_format(std::io::Cursor::new(&bytes), ImageFormat::Png);
     reader.limits(Limits::no_limits()); // Our own size cap above replaces the decoder's.
     let decoded = reader.decode().map_err(|e| bad(format!("malformed PNG: {e}")))?;
@@ -183,6 +186,65 @@ mod tests {
         write_png_srgb(&preview, &image).unwrap();
         let read = read_png8(&preview).unwrap();
         assert_eq!(read.pixels, vec![188, 0, 255, 118, 118, 118, 0, 0, 0]);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn header_claiming_more_than_the_file_holds_is_refused_before_decoding() {
+        let dir = temp_dir("claims");
+        let tiny = dir.join("tiny.png");
+        write_png_rgb8(&tiny, 2, 1, &[1, 2, 3, 4, 5, 6]).unwrap();
+        assert_eq!(read_png8(&tiny).unwrap().pixels, vec![1, 2, 3, 4, 5, 6]);
+
+        // 50 bytes whose IHDR claims 16384 × 16384 RGBA: exactly MAX_PIXELS, so only the data
+        // size check stands between it and a 1 GiB reservation by the decoder.
+        let mut bytes = std::fs::read(&tiny).unwrap();
+        bytes[16..20].copy_from_slice(&16384u32.to_be_bytes());
+        bytes[20..24].copy_from_slice(&16384u32.to_be_bytes());
+        bytes[25] = 6;
+        bytes.resize(50, 0);
+        let short = dir.join("short.png");
+        std::fs::write(&short, &bytes).unwrap();
+        let err = read_png8(&short).unwrap_err().to_string();
+        assert!(
+            err.contains("short.png")
+                && err.contains("header claims 16384 × 16384 pixels but the file is only 50 bytes")
+                && !err.contains("malformed PNG"),
+            "{err}"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn highly_compressed_real_pngs_still_load() {
+        // Flat 4096 × 4096 images written by the image crate: a flat colour with its default
+        // settings, and black (all-zero data) at best compression without filtering, which
+        // comes within 3 % of deflate's best case (1032:1; checked below to be over 1000:1). A
+        // bound tighter than what deflate can really do would refuse the black one.
+        let dir = temp_dir("flat");
+        let (w, h) = (4096u32, 4096u32);
+        let colour: Vec<u8> = [200u8, 120, 40].repeat((w * h) as usize);
+        let flat = dir.join("flat.png");
+        DynamicImage::ImageRgb8(image::RgbImage::from_raw(w, h, colour.clone()).unwrap())
+            .save_with_format(&flat, ImageFormat::Png)
+            .unwrap();
+        let black = vec![0u8; (w * h * 3) as usize];
+        let zeros = dir.join("black.png");
+        PngEncoder::new_with_quality(
+            std::fs::File::create(&zeros).unwrap(),
+            CompressionType::Best,
+            FilterType::NoFilter,
+        )
+        .write_image(&black, w, h, ExtendedColorType::Rgb8)
+        .unwrap();
+        let raw = h as u64 * (w as u64 * 3 + 1);
+        let zeros_len = std::fs::metadata(&zeros).unwrap().len();
+        assert!(raw / zeros_len > 1000, "{raw} bytes compressed to {zeros_len}: not near deflate's limit");
+        for (path, pixels) in [(&flat, &colour), (&zeros, &black)] {
+            let read = read_png8(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            assert_eq!((read.width, read.height, read.channels), (w, h, 3));
+            assert!(&read.pixels == pixels, "{} decoded to other pixels", path.display());
+        }
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

@@ -3,8 +3,8 @@
 //!
 //! - Formats: PNG and JPEG (glTF's two), and TIFF; told apart by their contents, not by a
 //!   `mimeType` or file name (which are often wrong).
-//! - Sizes over [`MAX_PIXELS`](crate::image_io::MAX_PIXELS) are refused from the header, before
-//!   anything is decoded.
+//! - Sizes over [`MAX_PIXELS`](crate::image_io::MAX_PIXELS), and PNG headers claiming more pixel
+//!   data than the file could hold, are refused from the header, before anything is decoded.
 //! - 8- and 16-bit, greyscale, grey + alpha, RGB and RGBA all become RGBA. Colour slots (base
 //!   colour, emissive) are decoded from sRGB to linear (alpha stays linear, as glTF says);
 //!   data slots (metallic-roughness, normal) are read as linear. Float images are linear already.
@@ -47,6 +47,7 @@ pub(in crate::scene) fn decode(bytes: &[u8]) -> Result<DynamicImage, String> {
     // reading up to the first IDAT, which a damaged file may lack.
     if let Some((width, height)) = crate::image_io::png_header_size(bytes) {
         crate::image_io::check_claimed_size(width, height)?;
+        crate::image_io::check_png_data_size(bytes)?;
     }
     let (width, height) = reader()?.into_dimensions().map_err(|e| format!("malformed image header: {e}"))?;
     crate::image_io::check_claimed_size(width, height)?;
