@@ -355,9 +355,8 @@ impl PathTracer {
                 break;
             }
 
-            // Numbers for this vertex: BSDF direction + next light sample, and (only when
-            // needed) the one-dimensional decisions.
-            let [u0, u1, l0, l1] = sampler.get(sets::vertex(depth));
+            // Numbers for this vertex (BSDF direction + next light sample) are drawn when the
+            // path goes on; the one-dimensional decisions only when needed.
             let roulette = depth + 1 >= self.config.rr_depth;
             let glass_weight = material.transmission * (1.0 - sp.metallic);
             let mut decisions = None;
@@ -394,6 +393,8 @@ impl PathTracer {
                 }
                 beta *= weight;
                 specular_bounce = true;
+                let [_, _, l0, l1] = sampler.get(sets::vertex(depth));
+                u_light = Vec2::new(l0, l1);
                 ray = si.spawn_ray(wi, ray.time);
             } else {
                 let params = BsdfParams {
@@ -449,6 +450,8 @@ impl PathTracer {
                     break;
                 }
                 // Continue the path by sampling the BSDF.
+                let [u0, u1, l0, l1] = sampler.get(sets::vertex(depth));
+                u_light = Vec2::new(l0, l1);
                 let u_lobe = if bsdf.has_lobe_choice() { decide(0) } else { 0.5 };
                 let Some(bs) = bsdf.sample(Vec2::new(u0, u1), u_lobe) else { break };
                 beta *= bs.f * (bs.cos / bs.pdf);
@@ -456,7 +459,6 @@ impl PathTracer {
                 specular_bounce = false;
                 ray = si.spawn_ray(bs.wi, ray.time);
             }
-            u_light = Vec2::new(l0, l1);
             depth += 1;
 
             if roulette {
