@@ -177,7 +177,7 @@ impl PathTracer {
     }
 
     /// The surface geometry at `hit`.
-    #[inline]
+    #[inline(always)]
     pub fn interaction(&self, hit: &Hit) -> SurfaceInteraction {
         let tri = self.bvh.triangle(hit.slot);
         let (p, p_error) = crate::triangle::hit_point(tri, hit.barycentrics);
@@ -209,7 +209,7 @@ impl PathTracer {
     }
 
     /// The material evaluated at `si` (textures, normal map).
-    #[inline]
+    #[inline(always)]
     fn shade(&self, material: &Material, si: &SurfaceInteraction, b: [f32; 3]) -> ShadingPoint {
         if material.textures.is_empty() {
             return ShadingPoint {
@@ -298,7 +298,7 @@ impl PathTracer {
     /// `ALPHA`, runs alpha tests during traversal (only scenes with alpha-tested materials
     /// need it: see [`PathTracer::has_alpha`]). `u_light` is the first vertex's light sample
     /// (it shares the camera's set, see `crate::sampler::sets`).
-    #[inline]
+    #[inline(always)]
     pub fn radiance<const AOV: bool, const ALPHA: bool>(
         &self,
         ray: Ray,

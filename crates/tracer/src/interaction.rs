@@ -27,14 +27,14 @@ pub struct SurfaceInteraction {
 
 impl SurfaceInteraction {
     /// A ray leaving the surface in direction `w` (unit).
-    #[inline]
+    #[inline(always)]
     pub fn spawn_ray(&self, w: Vec3, time: f32) -> Ray {
         Ray::new(offset_ray_origin(self.p, self.p_error, self.n_geom, w), w, time)
     }
 
     /// A shadow ray towards `target` (on a surface with normal `target_n` and error
     /// `target_error`; a zero normal for a point), and the t up to which blockers count.
-    #[inline]
+    #[inline(always)]
     pub fn spawn_ray_to(
         &self,
         target: Vec3,
@@ -61,7 +61,7 @@ impl SurfaceInteraction {
 
 /// `p` pushed off its surface (normal `n`) to the side `w` points to, far enough that the
 /// rounding error in `p` cannot put it back on the other side.
-#[inline]
+#[inline(always)]
 pub fn offset_ray_origin(p: Vec3, p_error: Vec3, n: Vec3, w: Vec3) -> Vec3 {
     let d = n.abs().dot(p_error);
     let offset = if w.dot(n) < 0.0 { -d * n } else { d * n };

@@ -158,47 +158,20 @@ fn trace_film<const AOV: bool, const ALPHA: bool>(
     let shutter_length = settings.shutter.1 - settings.shutter.0;
     // Pinhole cameras and instantaneous shutters draw no lens or time numbers.
     let needs_lens_time = uses_lens || shutter_length > 0.0;
+    let job =
+        TileJob { tracer, generator, res, tiles_x, settings, frame_time, shutter_length, needs_lens_time };
+    let v3 = cpu::has_x86_64_v3();
     let tiles: Vec<(Vec<PixelAccumulator>, u64)> = (0..tiles_x * tiles_y)
         .into_par_iter()
         .map(|tile| {
-            let x0 = (tile % tiles_x) * TILE;
-            let y0 = (tile / tiles_x) * TILE;
-            let x1 = (x0 + TILE).min(res.x);
-            let y1 = (y0 + TILE).min(res.y);
-            let mut out = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
-            let mut rays = 0u64;
-            for y in y0..y1 {
-                for x in x0..x1 {
-                    let pixel = UVec2::new(x, y);
-                    let mut acc = PixelAccumulator::default();
-                    for index in 0..settings.spp {
-                        let sampler = Sampler::new(pixel, index, settings.seed);
-                        let [jx, jy, l0, l1] = sampler.get(sets::CAMERA);
-                        let [lens_u, lens_v, u_time, _] =
-                            if needs_lens_time { sampler.get(sets::LENS_TIME) } else { [0.5; 4] };
-                        let sample = CameraSample {
-                            p_film: Vec2::new(x as f32 + jx, y as f32 + jy),
-                            p_lens: Vec2::new(lens_u, lens_v),
-                            time: frame_time + shutter_length * u_time,
-                        };
-                        let Some(ray) = generator.generate(&sample) else {
-                            acc.drop_sample();
-                            continue;
-                        };
-                        let mut first = FirstHit::default();
-                        let path =
-                            tracer.radiance::<AOV, ALPHA>(ray, &sampler, Vec2::new(l0, l1), &mut first);
-                        rays += path.rays as u64;
-                        acc.add(path.radiance);
-                        if AOV {
-                            acc.add_first_hit(&first);
-                        }
-                    }
-                    out.push(acc);
-                }
-            }
-            progress.advance(out.len() as u64);
-            (out, rays)
+            let out = if v3 {
+                // SAFETY: the CPU has every feature `trace_tile_v3` enables (checked above).
+                unsafe { cpu::trace_tile_v3::<AOV, ALPHA>(&job, tile) }
+            } else {
+                job.trace_tile::<AOV, ALPHA>(tile)
+            };
+            progress.advance(out.0.len() as u64);
+            out
         })
         .collect();
 
@@ -217,4 +190,200 @@ fn trace_film<const AOV: bool, const ALPHA: bool>(
         }
     }
     (pixels, rays)
+}
+
+/// Everything one tile's tracing needs (shared by all tiles of a frame).
+struct TileJob<'a> {
+    tracer: &'a PathTracer,
+    generator: &'a dyn RayGenerator,
+    res: UVec2,
+    tiles_x: u32,
+    settings: &'a RenderSettings,
+    frame_time: f32,
+    shutter_length: f32,
+    /// Pinhole cameras and instantaneous shutters draw no lens or time numbers.
+    needs_lens_time: bool,
+}
+
+impl TileJob<'_> {
+    /// Traces every sample of tile `tile`: its pixels' accumulators in row-major order within
+    /// the tile, and the rays traced.
+    #[inline(always)]
+    fn trace_tile<const AOV: bool, const ALPHA: bool>(&self, tile: u32) -> (Vec<PixelAccumulator>, u64) {
+        let (res, settings, tracer) = (self.res, self.settings, self.tracer);
+        let x0 = (tile % self.tiles_x) * TILE;
+        let y0 = (tile / self.tiles_x) * TILE;
+        let x1 = (x0 + TILE).min(res.x);
+        let y1 = (y0 + TILE).min(res.y);
+        let mut out = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
+        let mut rays = 0u64;
+        for y in y0..y1 {
+            for x in x0..x1 {
+                let pixel = UVec2::new(x, y);
+                let mut acc = PixelAccumulator::default();
+                for index in 0..settings.spp {
+                    let sampler = Sampler::new(pixel, index, settings.seed);
+                    let [jx, jy, l0, l1] = sampler.get(sets::CAMERA);
+                    let [lens_u, lens_v, u_time, _] =
+                        if self.needs_lens_time { sampler.get(sets::LENS_TIME) } else { [0.5; 4] };
+                    let sample = CameraSample {
+                        p_film: Vec2::new(x as f32 + jx, y as f32 + jy),
+                        p_lens: Vec2::new(lens_u, lens_v),
+                        time: self.frame_time + self.shutter_length * u_time,
+                    };
+                    let Some(ray) = self.generator.generate(&sample) else {
+                        acc.drop_sample();
+                        continue;
+                    };
+                    let mut first = FirstHit::default();
+                    let path = tracer.radiance::<AOV, ALPHA>(ray, &sampler, Vec2::new(l0, l1), &mut first);
+                    rays += path.rays as u64;
+                    acc.add(path.radiance);
+                    if AOV {
+                        acc.add_first_hit(&first);
+                    }
+                }
+                out.push(acc);
+            }
+        }
+        (out, rays)
+    }
+}
+
+/// The same tracing code compiled a second time for x86-64-v3 CPUs (AVX2, FMA, BMI1/2, LZCNT),
+/// chosen once per render. The image bits do not depend on the choice: Rust never contracts
+/// a·b + c into an FMA by itself, and no arithmetic is reordered (a test compares both paths).
+mod cpu {
+    use super::{PixelAccumulator, TileJob};
+
+    /// True when this CPU runs [`trace_tile_v3`] (and it has not been switched off for a test).
+    pub(super) fn has_x86_64_v3() -> bool {
+        #[cfg(target_arch = "x86_64")]
+        {
+            !FORCE_BASELINE.load(std::sync::atomic::Ordering::Relaxed)
+                && std::arch::is_x86_feature_detected!("avx2")
+                && std::arch::is_x86_feature_detected!("fma")
+                && std::arch::is_x86_feature_detected!("bmi1")
+                && std::arch::is_x86_feature_detected!("bmi2")
+                && std::arch::is_x86_feature_detected!("lzcnt")
+                && std::arch::is_x86_feature_detected!("popcnt")
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            false
+        }
+    }
+
+    /// Makes [`has_x86_64_v3`] answer false (tests compare the two code paths).
+    pub(super) static FORCE_BASELINE: std::sync::atomic::AtomicBool =
+        std::sync::atomic::AtomicBool::new(false);
+
+    /// [`TileJob::trace_tile`] compiled for x86-64-v3.
+    ///
+    /// # Safety
+    /// The CPU must have AVX2, FMA, BMI1, BMI2, LZCNT and POPCNT ([`has_x86_64_v3`]).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx,avx2,fma,bmi1,bmi2,lzcnt,popcnt,sse3,ssse3,sse4.1,sse4.2")]
+    pub(super) unsafe fn trace_tile_v3<const AOV: bool, const ALPHA: bool>(
+        job: &TileJob,
+        tile: u32,
+    ) -> (Vec<PixelAccumulator>, u64) {
+        job.trace_tile::<AOV, ALPHA>(tile)
+    }
+
+    /// Never called: [`has_x86_64_v3`] is false off x86-64.
+    #[cfg(not(target_arch = "x86_64"))]
+    pub(super) unsafe fn trace_tile_v3<const AOV: bool, const ALPHA: bool>(
+        job: &TileJob,
+        tile: u32,
+    ) -> (Vec<PixelAccumulator>, u64) {
+        job.trace_tile::<AOV, ALPHA>(tile)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::{CameraDesc, Projection};
+    use crate::integrator::IntegratorConfig;
+    use crate::material::{AlphaMode, Material};
+    use crate::scene::{MeshPart, Scene};
+    use glam::Vec3;
+    use std::sync::atomic::Ordering;
+
+    /// A quad (two triangles) with corner `o` and edges `u`, `v`.
+    fn quad(scene: &mut Scene, o: Vec3, u: Vec3, v: Vec3, material: u32) {
+        let positions = [o, o + u, o + u + v, o + v];
+        let indices = [0, 1, 2, 0, 2, 3];
+        let part =
+            MeshPart { positions: &positions, normals: None, uvs: None, indices: Some(&indices), material };
+        scene.mesh.push(part).unwrap();
+    }
+
+    /// Every kind of vertex the integrator has: diffuse, rough metal, glass, alpha-blended,
+    /// one-sided emitter, and a constant environment seen through the open side.
+    fn scene(alpha: bool) -> Scene {
+        let mut scene = Scene::default();
+        let mut light = Material::diffuse("light", Vec3::ZERO);
+        light.emission = Vec3::new(8.0, 6.0, 3.0);
+        let mut metal = Material::diffuse("metal", Vec3::new(0.9, 0.6, 0.3));
+        (metal.metallic, metal.roughness) = (1.0, 0.3);
+        let mut glass = Material::diffuse("glass", Vec3::ONE);
+        (glass.transmission, glass.roughness, glass.ior) = (1.0, 0.0, 1.5);
+        let mut veil = Material::diffuse("veil", Vec3::new(0.2, 0.5, 0.8));
+        if alpha {
+            (veil.alpha, veil.alpha_mode) = (0.5, AlphaMode::Blend);
+        }
+        scene.materials = vec![Material::diffuse("white", Vec3::splat(0.7)), light, metal, glass, veil];
+        scene.environment.color = Vec3::new(0.1, 0.2, 0.3);
+        quad(&mut scene, Vec3::new(-2.0, 0.0, -2.0), Vec3::X * 4.0, Vec3::Z * 4.0, 0);
+        quad(&mut scene, Vec3::new(-0.5, 2.0, -0.5), Vec3::Z, Vec3::X, 1);
+        quad(&mut scene, Vec3::new(-1.5, 0.0, 0.5), Vec3::X, Vec3::new(0.3, 1.0, 0.2), 2);
+        quad(&mut scene, Vec3::new(0.3, 0.2, -0.5), Vec3::X, Vec3::Y, 3);
+        quad(&mut scene, Vec3::new(-1.0, 0.1, -1.0), Vec3::new(0.8, 0.0, 0.5), Vec3::Y, 4);
+        scene
+    }
+
+    /// The x86-64-v3 build of the tile loop gives the same bits as the baseline one (AOVs and
+    /// alpha tests on and off, roulette on). On a CPU without x86-64-v3 both runs take the
+    /// baseline path and the test says so.
+    #[test]
+    fn cpu_dispatch_does_not_change_a_single_bit() {
+        if !cpu::has_x86_64_v3() {
+            eprintln!("this CPU has no x86-64-v3: only the baseline path runs");
+        }
+        let camera = CameraDesc::look_at(
+            "c",
+            Vec3::new(0.5, 1.2, 4.0),
+            Vec3::new(0.0, 0.5, 0.0),
+            Vec3::Y,
+            Projection::Perspective { fov_y: 50f32.to_radians() },
+        )
+        .unwrap()
+        .build(UVec2::new(40, 32))
+        .unwrap();
+        for (alpha, aovs) in [(false, false), (true, true)] {
+            let tracer = PathTracer::new(&scene(alpha), IntegratorConfig::DEFAULT.with_rr_depth(2)).unwrap();
+            assert_eq!(tracer.has_alpha(), alpha);
+            let settings = RenderSettings { aovs, ..RenderSettings::still(16) };
+            let run = |baseline: bool| {
+                cpu::FORCE_BASELINE.store(baseline, Ordering::Relaxed);
+                let r = render(&tracer, camera.as_ref(), &mut LensChain::new(), &settings, &NoProgress);
+                cpu::FORCE_BASELINE.store(false, Ordering::Relaxed);
+                r.unwrap()
+            };
+            let (v3, baseline) = (run(false), run(true));
+            let bits = |r: &Rendered| {
+                let i = &r.images;
+                let mut all: Vec<u32> =
+                    i.image.pixels.iter().flat_map(|p| p.to_array()).map(f32::to_bits).collect();
+                all.extend(i.variance.pixels.iter().flat_map(|p| p.to_array()).map(f32::to_bits));
+                all
+            };
+            assert!(v3.images.image.pixels.iter().any(|p| p.max_element() > 0.05), "the scene is lit");
+            assert_eq!(v3.stats.rays, baseline.stats.rays, "alpha {alpha}: ray counts differ");
+            assert!(bits(&v3) == bits(&baseline), "alpha {alpha}: image or variance bits differ");
+            assert!(v3.images.albedo == baseline.images.albedo && v3.images.depth == baseline.images.depth);
+        }
+    }
 }

@@ -117,7 +117,7 @@ impl Bsdf {
 
     /// The BSDF with parameters `p` (e.g. textured) at a point with shading normal `ns` and
     /// geometric normal `ng`, seen from world direction `wo`.
-    #[inline]
+    #[inline(always)]
     pub fn with_params(p: &BsdfParams, ns: Vec3, ng: Vec3, wo: Vec3) -> Self {
         // Face both normals towards wo.
         let ng = if ng.dot(wo) < 0.0 { -ng } else { ng };
@@ -226,7 +226,7 @@ impl Bsdf {
     }
 
     /// Samples wi from `u` (2-D, stratified) and `u_lobe` (1-D lobe choice).
-    #[inline]
+    #[inline(always)]
     pub fn sample(&self, u: Vec2, u_lobe: f32) -> Option<BsdfSample> {
         let wi = if u_lobe < self.p_specular {
             let h = self.ggx.sample_visible_normal(self.wo, u);

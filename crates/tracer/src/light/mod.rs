@@ -166,7 +166,7 @@ impl LightSampler {
 
     /// Chooses a light and a point on it for a receiver at `p_ref`; `u` is a stratified 2-D
     /// number (u.x also chooses the light).
-    #[inline]
+    #[inline(always)]
     pub fn sample(&self, p_ref: Vec3, u: Vec2) -> Option<LightSample> {
         let dist = self.distribution.as_ref()?;
         let (i, p_select, ux) = dist.sample(u.x);
