@@ -339,10 +339,17 @@ impl Bvh {
                 order[i] = entry;
                 n += 1;
             }
-            for &entry in &order[..n] {
-                let Some(slot) = stack.get_mut(len) else { return (Walk::Overflow, t_max) };
-                slot.write(entry);
-                len += 1;
+            if n > 0 {
+                // Descend into the nearest child now; the others wait on the stack.
+                for &entry in &order[..n - 1] {
+                    let Some(slot) = stack.get_mut(len) else { return (Walk::Overflow, t_max) };
+                    slot.write(entry);
+                    len += 1;
+                }
+                if order[n - 1].1 <= t_max {
+                    node = &self.nodes[order[n - 1].0 as usize];
+                    continue;
+                }
             }
             // The nearest node still in range (a hit found since it was pushed may be nearer).
             loop {
