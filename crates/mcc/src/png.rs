@@ -7,20 +7,16 @@ use image::DynamicImage;
 use image::codecs::png::PngEncoder;
 use std::path::Path;
 
-/// Decodes the image at `path`; errors name the file. Sizes past the tracer's
-/// [`MAX_PIXELS`](tracer::image_io::MAX_PIXELS), or more than the file could hold
-/// ([`check_png_data_size`](tracer::image_io::check_png_data_size)), are refused from the header,
-/// before decoding.
+/// Decodes the image at `path`; errors name the file. PNG sizes past the tracer's
+/// [`MAX_PIXELS`](tracer::image_io::MAX_PIXELS), or more than the file could hold, are refused
+/// from the header before decoding ([`check_png_header`](tracer::image_io::check_png_header)).
 pub fn read_image(path: &Path) -> Result<DynamicImage> {
     let bytes = std::fs::read(path).map_err(|e| MccError::io(path, e))?;
     let undecodable = |why: String| MccError::image(path, format!("cannot decode the image: {why}"));
     if bytes.is_empty() {
         return Err(undecodable("the file is empty (0 bytes)".to_owned()));
     }
-    if let Some((width, height)) = tracer::image_io::png_header_size(&bytes) {
-        tracer::image_io::check_claimed_size(width, height).map_err(undecodable)?;
-        tracer::image_io::check_png_data_size(&bytes).map_err(undecodable)?;
-    }
+    tracer::image_io::check_png_header(&bytes).map_err(undecodable)?;
     let reader = image::ImageReader::new(std::io::Cursor::new(&bytes))
         .with_guessed_format()
         .map_err(|e| undecodable(e.to_string()))?;

@@ -50,6 +50,8 @@ static SOBOL_BYTES: LazyLock<[[Int4; 256]; 2]> = LazyLock::new(|| {
 pub struct Sampler {
     pixel_seed: u32,
     index: u32,
+    /// [`SOBOL_BYTES`], dereferenced once per sample rather than once per set (each `LazyLock`
+    /// access is an atomic load and a branch).
     sobol_bytes: &'static [[Int4; 256]; 2],
 }
 

@@ -36,13 +36,23 @@ pub const MAX_SAMPLES: u64 = 1 << 30;
 /// IHDR). Read by hand because the image crate only reports a PNG's size after it has found the
 /// first IDAT chunk, so a header-only file with an absurd size would fail with a misleading
 /// message instead of being refused for its size.
-pub fn png_header_size(bytes: &[u8]) -> Option<(u32, u32)> {
+fn png_header_size(bytes: &[u8]) -> Option<(u32, u32)> {
     const SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
     if bytes.len() < 24 || &bytes[..8] != SIGNATURE || &bytes[12..16] != b"IHDR" {
         return None;
     }
     let be32 = |at: usize| u32::from_be_bytes([bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]]);
     Some((be32(16), be32(20)))
+}
+
+/// Refuses a PNG whose IHDR claims a size no reader allocates for ([`check_claimed_size`]) or
+/// more pixel data than the file can hold ([`check_png_data_size`]), before any decoder sees
+/// it. Not a PNG: `Ok`, other checks apply. The message says what the file claims (callers
+/// name the file).
+pub fn check_png_header(bytes: &[u8]) -> Result<(), String> {
+    let Some((width, height)) = png_header_size(bytes) else { return Ok(()) };
+    check_claimed_size(width, height)?;
+    check_png_data_size(bytes)
 }
 
 /// The most bytes of output one byte of a deflate stream can decode to, with margin: a 258-byte

@@ -45,10 +45,7 @@ pub(in crate::scene) fn decode(bytes: &[u8]) -> Result<DynamicImage, String> {
     };
     // A PNG's claimed size first, straight from its IHDR: the decoder only reports it after
     // reading up to the first IDAT, which a damaged file may lack.
-    if let Some((width, height)) = crate::image_io::png_header_size(bytes) {
-        crate::image_io::check_claimed_size(width, height)?;
-        crate::image_io::check_png_data_size(bytes)?;
-    }
+    crate::image_io::check_png_header(bytes)?;
     let (width, height) = reader()?.into_dimensions().map_err(|e| format!("malformed image header: {e}"))?;
     crate::image_io::check_claimed_size(width, height)?;
     let mut reader = reader()?;
