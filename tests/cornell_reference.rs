@@ -80,3 +80,78 @@ fn cornell_gltf_and_obj_match_mitsuba_and_each_other() {
          {same_seed:.3e} vs {independent:.3e}"
     );
 }
+
+/// Adaptive sampling at the same average spp: still unbiased against the Mitsuba reference
+/// (each pixel tested with its own sample count), and a lower relMSE than spreading the same
+/// samples evenly — what it is for.
+#[test]
+fn adaptive_sampling_matches_mitsuba_with_less_relative_error() {
+    use glam::UVec2;
+    use tracer::integrator::PathTracer;
+    use tracer::lens::LensChain;
+    use tracer::render::{NoProgress, RenderSettings, render};
+
+    let reference = cornell_reference();
+    let (scene, camera) = cornell_gltf();
+    let tracer = PathTracer::new(&scene, cornell_config()).unwrap();
+    let built = camera.build(UVec2::splat(256)).unwrap();
+    let run = |adaptive: bool| {
+        let settings = RenderSettings { seed: SEED + 1, adaptive, ..RenderSettings::still(SPP) };
+        timed(if adaptive { "adaptive render" } else { "uniform render" }, || {
+            render(&tracer, built.as_ref(), &mut LensChain::new(), &settings, &NoProgress).unwrap()
+        })
+    };
+    let (uniform, adaptive) = (run(false), run(true));
+    let samples = &adaptive.images.samples.pixels;
+    let fewest = samples.iter().fold(f32::INFINITY, |m, &n| m.min(n));
+    let most = samples.iter().fold(0.0f32, |m, &n| m.max(n));
+    println!("adaptive: {fewest} to {most} samples per pixel, {} in all", adaptive.stats.samples);
+    assert!(adaptive.stats.samples <= uniform.stats.samples);
+    assert!(adaptive.stats.samples > uniform.stats.samples * 99 / 100, "the budget is spent");
+    assert_eq!(fewest as u32, SPP / 4, "every pixel keeps its pilot samples");
+    assert!(most > 2.0 * SPP as f32, "some pixels get far more than the average");
+
+    // Per-pixel counts differ: scale each variance so that variance / fewest is the variance of
+    // that pixel's mean, and test with the fewest count (the most conservative t tails).
+    let mut variance = adaptive.images.variance.clone();
+    for (v, &n) in variance.pixels.iter_mut().zip(samples) {
+        *v *= fewest / n;
+    }
+    let estimate = Estimate { mean: &adaptive.images.image, variance: &variance, samples: fewest as u32 };
+    let report = statistical_test(estimate, &reference);
+    let (uniform_err, adaptive_err) =
+        (rel_mse(&uniform.images.image, &reference), rel_mse(&adaptive.images.image, &reference));
+    println!(
+        "adaptive against the Mitsuba 3 reference:\n{report}\nrelMSE at {SPP} spp: uniform \
+         {uniform_err:.3e}, adaptive {adaptive_err:.3e} ({:.2}x lower)",
+        uniform_err / adaptive_err
+    );
+    assert_eq!(adaptive.stats.nonfinite_samples, 0);
+    assert!(report.passed(), "adaptive sampling is biased:\n{report}");
+    assert!(adaptive_err < uniform_err, "adaptive sampling did not lower relMSE");
+}
+
+/// `mcctrace render --adaptive --aovs` writes the per-pixel sample counts as a `samples` layer
+/// and the total as metadata; the counts vary, keep the pilot and stay within the budget.
+#[test]
+fn cli_adaptive_writes_sample_counts() {
+    let dir = Scratch::new("adaptive-cli");
+    let out = dir.s("adaptive.exr");
+    let args = ["render", "scenes/cornell/cornell.gltf", "--res", "32x32", "--spp", "16", "--max-depth", "4"];
+    let mut adaptive = args.to_vec();
+    adaptive.extend(["--adaptive", "--aovs", "--quiet", "--out", &out]);
+    mcctrace(&adaptive).unwrap();
+    let exr = tracer::image_io::read_exr(std::path::Path::new(&out)).unwrap();
+    let counts = exr.gray_layer("samples").expect("--aovs writes a samples layer");
+    let total: f64 = counts.pixels.iter().map(|&n| n as f64).sum();
+    assert_eq!(exr.metadata.get("mcctrace/samples").map(String::as_str), Some(total.to_string().as_str()));
+    assert!(total <= 16.0 * 1024.0 && total > 0.99 * 16.0 * 1024.0, "total {total}");
+    assert!(counts.pixels.iter().all(|&n| n >= 4.0) && counts.pixels.iter().any(|&n| n > 32.0));
+    // Without --adaptive every pixel takes --spp samples.
+    let plain = dir.s("plain.exr");
+    let mut uniform = args.to_vec();
+    uniform.extend(["--aovs", "--quiet", "--out", &plain]);
+    mcctrace(&uniform).unwrap();
+    let exr = tracer::image_io::read_exr(std::path::Path::new(&plain)).unwrap();
+    assert!(exr.gray_layer("samples").unwrap().pixels.iter().all(|&n| n == 16.0));
+}

@@ -81,7 +81,7 @@ fn another_seed_gives_another_image_of_the_same_scene() {
     assert!(report.passed(), "two seeds render different scenes:\n{report}");
 }
 
-/// Counts the pixels each worker of a 2-thread pool finished, and holds worker `slow` after its
+/// Counts the pixel samples each worker of a 2-thread pool finished, and holds worker `slow` after its
 /// first tile until the other worker has finished half the image (stealing what `slow` had
 /// queued; rayon's adaptive splitting leaves at most a quarter of the tiles in `slow`'s running
 /// chunk): the schedule is chosen on purpose, not left to timing.
@@ -89,17 +89,17 @@ struct SkewedSchedule {
     slow: usize,
     total: u64,
     held: AtomicBool,
-    pixels_by_worker: [AtomicU64; 2],
+    samples_by_worker: [AtomicU64; 2],
 }
 
 impl Progress for SkewedSchedule {
-    fn advance(&self, pixels: u64) {
+    fn advance(&self, samples: u64) {
         let worker = rayon::current_thread_index().expect("called on a pool worker");
-        self.pixels_by_worker[worker].fetch_add(pixels, Ordering::SeqCst);
+        self.samples_by_worker[worker].fetch_add(samples, Ordering::SeqCst);
         if worker == self.slow && !self.held.swap(true, Ordering::SeqCst) {
             let start = std::time::Instant::now();
             // The time limit only guards against a hang if the renderer ever stopped stealing.
-            while 2 * self.pixels_by_worker[1 - worker].load(Ordering::SeqCst) < self.total
+            while 2 * self.samples_by_worker[1 - worker].load(Ordering::SeqCst) < self.total
                 && start.elapsed().as_secs() < 60
             {
                 std::thread::sleep(std::time::Duration::from_millis(1));
@@ -117,18 +117,18 @@ fn tile_schedule_does_not_change_a_single_bit() {
     let run = |slow: usize| {
         let schedule = SkewedSchedule {
             slow,
-            total: (SIZE * SIZE) as u64,
+            total: (SIZE * SIZE * settings.spp) as u64,
             held: AtomicBool::new(false),
-            pixels_by_worker: [AtomicU64::new(0), AtomicU64::new(0)],
+            samples_by_worker: [AtomicU64::new(0), AtomicU64::new(0)],
         };
         let r = with_threads(2, || {
             render(&tracer, built.as_ref(), &mut LensChain::new(), &settings, &schedule).unwrap()
         });
-        (r, schedule.pixels_by_worker.map(|a| a.into_inner()))
+        (r, schedule.samples_by_worker.map(|a| a.into_inner()))
     };
     let (a, by_worker_a) = run(0);
     let (b, by_worker_b) = run(1);
-    println!("pixels per worker: worker 0 slowed {by_worker_a:?}, worker 1 slowed {by_worker_b:?}");
+    println!("samples per worker: worker 0 slowed {by_worker_a:?}, worker 1 slowed {by_worker_b:?}");
     // The held worker rendered the smaller share each time: the two runs took the tiles in
     // different orders on different threads.
     assert!(
@@ -144,4 +144,25 @@ fn tile_schedule_does_not_change_a_single_bit() {
         "AOVs depend on the tile schedule"
     );
     assert_eq!(a.stats.rays, b.stats.rays);
+}
+
+/// Adaptive sampling's second pass depends on the first pass's film only, so 1 and 2 threads
+/// still give the same bits, sample counts included.
+#[test]
+fn adaptive_sampling_does_not_change_a_single_bit() {
+    let (scene, camera) = cornell_gltf();
+    let tracer = PathTracer::new(&scene, cornell_config()).unwrap();
+    let built = camera.build(UVec2::splat(SIZE)).unwrap();
+    let settings = RenderSettings { seed: 5, aovs: true, adaptive: true, ..RenderSettings::still(16) };
+    let run = |threads| {
+        with_threads(threads, || {
+            render(&tracer, built.as_ref(), &mut LensChain::new(), &settings, &NoProgress).unwrap()
+        })
+    };
+    let (one, two) = (run(1), run(2));
+    let (a, b) = (&one.images, &two.images);
+    assert!(a.samples.pixels.iter().any(|&n| n != 16.0), "the counts are adaptive");
+    assert!(a.samples == b.samples, "sample counts differ");
+    assert!(a.image == b.image && a.variance == b.variance, "image or variance differs");
+    assert_eq!(one.stats.rays, two.stats.rays);
 }

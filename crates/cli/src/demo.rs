@@ -77,6 +77,7 @@ pub(crate) fn quality(spp: u32, res: Resolution, threads: Option<usize>, quiet: 
         env_strength: 1.0,
         spot_falloff: None,
         aovs: false,
+        adaptive: false,
         quiet,
     }
 }

@@ -49,6 +49,7 @@ pub fn write_render(
         ("mcctrace/frame", info.frame.to_string()),
         ("mcctrace/seconds", format!("{:.6}", rendered.stats.seconds)),
         ("mcctrace/rays", rendered.stats.rays.to_string()),
+        ("mcctrace/samples", rendered.stats.samples.to_string()),
     ];
     let layers: Vec<Aov<'_>> = if aovs {
         vec![
@@ -56,6 +57,7 @@ pub fn write_render(
             Aov::Rgb { name: "normal", image: &images.normal },
             Aov::Gray { name: "depth", image: &images.depth },
             Aov::Rgb { name: "variance", image: &images.variance },
+            Aov::Gray { name: "samples", image: &images.samples },
         ]
     } else {
         Vec::new()

@@ -2,7 +2,7 @@
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-/// A progress bar over a known amount of work (pixels, rays, frames).
+/// A progress bar over a known amount of work (pixel samples, rays, frames).
 pub struct Bar {
     bar: ProgressBar,
 }
@@ -31,7 +31,7 @@ impl Bar {
 }
 
 impl tracer::render::Progress for Bar {
-    fn advance(&self, pixels: u64) {
-        self.bar.inc(pixels);
+    fn advance(&self, samples: u64) {
+        self.bar.inc(samples);
     }
 }

@@ -104,9 +104,14 @@ pub struct QualityArgs {
     /// Spot-light falloff, overriding the loader's choice (Blender's for Blender-made files).
     #[arg(long, value_enum)]
     pub spot_falloff: Option<FalloffArg>,
-    /// Also write albedo, normal, depth and per-sample variance layers into the EXR.
+    /// Also write albedo, normal, depth, per-sample variance and sample-count layers into the
+    /// EXR.
     #[arg(long)]
     pub aovs: bool,
+    /// Adaptive sampling: --spp becomes the average per pixel; a quarter of it goes to every
+    /// pixel, the rest where the noise relative to the pixel's brightness is highest.
+    #[arg(long)]
+    pub adaptive: bool,
     /// No progress bar or summary.
     #[arg(long, short)]
     pub quiet: bool,
@@ -323,9 +328,24 @@ pub fn render_camera_with_shutter(
     frame: u32,
     shutter: (f32, f32),
 ) -> anyhow::Result<Rendered> {
-    let settings = RenderSettings { spp: q.spp, seed: q.seed, frame, camera_id, shutter, aovs: q.aovs };
+    let settings = RenderSettings {
+        spp: q.spp,
+        seed: q.seed,
+        frame,
+        camera_id,
+        shutter,
+        aovs: q.aovs,
+        adaptive: q.adaptive,
+    };
+    if q.adaptive && tracer::adaptive::pilot_spp(q.spp).is_none() && !q.quiet {
+        eprintln!(
+            "note: --adaptive needs --spp {} or more to split; {} samples go to every pixel",
+            tracer::adaptive::PILOT_SHARE,
+            q.spp
+        );
+    }
     let res = camera.resolution();
-    let bar = Bar::new(res.x as u64 * res.y as u64, name, q.quiet);
+    let bar = Bar::new(res.x as u64 * res.y as u64 * q.spp as u64, name, q.quiet);
     let rendered = with_threads(q.threads, || render(tracer, camera, lenses, &settings, &bar))?;
     bar.finish();
     let rendered = rendered.with_context(|| format!("rendering camera '{name}'"))?;

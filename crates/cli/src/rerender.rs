@@ -58,6 +58,7 @@ fn crop(r: &mut Rendered, n: u32) -> anyhow::Result<()> {
     r.images = FilmImages {
         image: cut(&i.image),
         variance: cut(&i.variance),
+        samples: i.samples.crop(n, n, w, h).expect("checked above"),
         albedo: cut(&i.albedo),
         normal: cut(&i.normal),
         depth: i.depth.crop(n, n, w, h).expect("checked above"),

@@ -4,7 +4,8 @@
 //! golden tests and the variance AOV need it) and the first-hit AOVs.
 //!
 //! A sample that is dropped (by the camera or a lens shader) or non-finite counts as black; the
-//! non-finite ones are also counted so tests can assert there are none.
+//! non-finite ones are also counted so tests can assert there are none. Each pixel counts its
+//! own samples: with adaptive sampling (`crate::adaptive`) pixels take different numbers.
 
 use crate::image::{GrayImage, RgbImage};
 use crate::integrator::FirstHit;
@@ -18,6 +19,8 @@ pub struct PixelAccumulator {
     albedo: Vec3,
     normal: Vec3,
     depth: f32,
+    /// Samples taken (every kind: finite, non-finite and dropped).
+    samples: u32,
     /// Samples whose value was NaN or infinite (recorded as black).
     pub nonfinite: u32,
     /// Samples the camera or a lens shader dropped (recorded as black).
@@ -28,6 +31,7 @@ impl PixelAccumulator {
     /// Adds a sample's radiance.
     #[inline]
     pub fn add(&mut self, radiance: Vec3) {
+        self.samples += 1;
         if !radiance.is_finite() {
             self.nonfinite += 1;
             return;
@@ -48,7 +52,28 @@ impl PixelAccumulator {
     /// Records a dropped sample.
     #[inline]
     pub fn drop_sample(&mut self) {
+        self.samples += 1;
         self.dropped += 1;
+    }
+
+    /// Samples taken so far.
+    #[inline]
+    pub fn samples(&self) -> u32 {
+        self.samples
+    }
+
+    /// The mean of the samples so far (black before the first).
+    pub fn mean(&self) -> DVec3 {
+        self.sum / self.samples.max(1) as f64
+    }
+
+    /// The unbiased per-sample variance of the samples so far (zero below two samples).
+    pub fn variance(&self) -> DVec3 {
+        if self.samples < 2 {
+            return DVec3::ZERO;
+        }
+        let n = self.samples as f64;
+        ((self.sum_sq - self.sum / n * self.sum) / (n - 1.0)).max(DVec3::ZERO)
     }
 }
 
@@ -56,7 +81,6 @@ impl PixelAccumulator {
 pub struct Film {
     width: u32,
     height: u32,
-    spp: u32,
     pixels: Vec<PixelAccumulator>,
 }
 
@@ -65,9 +89,11 @@ pub struct Film {
 pub struct FilmImages {
     /// The mean radiance per pixel.
     pub image: RgbImage,
-    /// Unbiased per-sample variance per pixel and channel (divide by spp for the variance of
-    /// the pixel's mean).
+    /// Unbiased per-sample variance per pixel and channel (divide by the pixel's sample count
+    /// for the variance of its mean).
     pub variance: RgbImage,
+    /// Samples each pixel took (the same everywhere unless sampling was adaptive).
+    pub samples: GrayImage,
     /// Mean first-hit base colour.
     pub albedo: RgbImage,
     /// Mean first-hit shading normal (world space, not renormalised).
@@ -78,9 +104,9 @@ pub struct FilmImages {
 
 impl Film {
     /// An empty film; `pixels` must hold width × height accumulators in row-major order.
-    pub fn new(width: u32, height: u32, spp: u32, pixels: Vec<PixelAccumulator>) -> Self {
+    pub fn new(width: u32, height: u32, pixels: Vec<PixelAccumulator>) -> Self {
         debug_assert_eq!(pixels.len(), width as usize * height as usize);
-        Self { width, height, spp, pixels }
+        Self { width, height, pixels }
     }
 
     /// Total non-finite samples.
@@ -95,28 +121,23 @@ impl Film {
 
     /// The mean, variance and AOV images.
     pub fn images(&self) -> FilmImages {
-        let n = self.spp as f64;
         let map_rgb = |f: &dyn Fn(&PixelAccumulator) -> Vec3| RgbImage {
             width: self.width,
             height: self.height,
             pixels: self.pixels.iter().map(f).collect(),
         };
-        let image = map_rgb(&|p| (p.sum / n).as_vec3());
-        let variance = map_rgb(&|p| {
-            if self.spp < 2 {
-                return Vec3::ZERO;
-            }
-            let mean = p.sum / n;
-            ((p.sum_sq - mean * p.sum) / (n - 1.0)).max(DVec3::ZERO).as_vec3()
-        });
-        let inv = 1.0 / self.spp as f32;
-        let albedo = map_rgb(&|p| p.albedo * inv);
-        let normal = map_rgb(&|p| p.normal * inv);
-        let depth = GrayImage {
+        let map_gray = |f: &dyn Fn(&PixelAccumulator) -> f32| GrayImage {
             width: self.width,
             height: self.height,
-            pixels: self.pixels.iter().map(|p| p.depth * inv).collect(),
+            pixels: self.pixels.iter().map(f).collect(),
         };
-        FilmImages { image, variance, albedo, normal, depth }
+        let image = map_rgb(&|p| p.mean().as_vec3());
+        let variance = map_rgb(&|p| p.variance().as_vec3());
+        let inv = |p: &PixelAccumulator| 1.0 / p.samples.max(1) as f32;
+        let albedo = map_rgb(&|p| p.albedo * inv(p));
+        let normal = map_rgb(&|p| p.normal * inv(p));
+        let depth = map_gray(&|p| p.depth * inv(p));
+        let samples = map_gray(&|p| p.samples as f32);
+        FilmImages { image, variance, samples, albedo, normal, depth }
     }
 }

@@ -3,6 +3,7 @@
 //! the `mcc` crate plugs in through [`lens::LensShader`].
 #![warn(missing_docs)]
 
+pub mod adaptive;
 pub mod atomic;
 pub mod bsdf;
 pub mod bvh;

@@ -3,8 +3,11 @@
 //!
 //! Determinism: each pixel is computed by exactly one task, its samples in index order, with
 //! random numbers that depend only on (pixel, sample, dimension, seed) — so the image is the
-//! same bit for bit whatever the thread count and whichever thread takes which tile.
+//! same bit for bit whatever the thread count and whichever thread takes which tile. Adaptive
+//! sampling (`crate::adaptive`) adds a second pass whose per-pixel counts are a pure function
+//! of the first pass's film; each pixel goes on from its pilot samples' indices.
 
+use crate::adaptive;
 use crate::camera::{Camera, CameraSample};
 use crate::error::{Result, TracerError};
 use crate::film::{Film, FilmImages, PixelAccumulator};
@@ -37,26 +40,30 @@ pub struct RenderSettings {
     pub shutter: (f32, f32),
     /// Whether to record first-hit albedo, normal and depth.
     pub aovs: bool,
+    /// Whether to spread the samples adaptively (`crate::adaptive`): `spp` is then the average
+    /// per pixel, a quarter of it taken everywhere and the rest where the relative noise is
+    /// highest.
+    pub adaptive: bool,
 }
 
 impl RenderSettings {
     /// A still render at `spp` samples per pixel, seed 0, frame 0, camera 1.
     pub const fn still(spp: u32) -> Self {
-        Self { spp, seed: 0, frame: 0, camera_id: 1, shutter: (0.0, 0.0), aovs: false }
+        Self { spp, seed: 0, frame: 0, camera_id: 1, shutter: (0.0, 0.0), aovs: false, adaptive: false }
     }
 }
 
 /// Progress reports from a render (called from worker threads).
 pub trait Progress: Sync {
-    /// `pixels` more pixels are finished.
-    fn advance(&self, pixels: u64);
+    /// `samples` more pixel samples are finished (a render takes about width × height × spp).
+    fn advance(&self, samples: u64);
 }
 
 /// A progress sink that ignores everything.
 pub struct NoProgress;
 
 impl Progress for NoProgress {
-    fn advance(&self, _pixels: u64) {}
+    fn advance(&self, _samples: u64) {}
 }
 
 /// Counts from one render.
@@ -64,7 +71,7 @@ impl Progress for NoProgress {
 pub struct RenderStats {
     /// Wall-clock seconds spent tracing (lens set-up and tear-down excluded).
     pub seconds: f64,
-    /// Camera samples taken.
+    /// Camera samples taken (with adaptive sampling, at most width × height × spp).
     pub samples: u64,
     /// Rays traced (camera, continuation and shadow rays).
     pub rays: u64,
@@ -120,22 +127,36 @@ pub fn render(
     let (pixels, rays) = {
         let generator = lenses.generator(camera);
         let lens = camera.uses_lens();
-        // Specialised loops: no AOV bookkeeping without AOVs, no alpha tests without
-        // alpha-tested materials.
-        match (settings.aovs, tracer.has_alpha()) {
-            (true, true) => trace_film::<true, true>(tracer, &generator, lens, res, settings, progress),
-            (true, false) => trace_film::<true, false>(tracer, &generator, lens, res, settings, progress),
-            (false, true) => trace_film::<false, true>(tracer, &generator, lens, res, settings, progress),
-            (false, false) => trace_film::<false, false>(tracer, &generator, lens, res, settings, progress),
+        let trace = |pass: &Pass| {
+            // Specialised loops: no AOV bookkeeping without AOVs, no alpha tests without
+            // alpha-tested materials.
+            let (g, s, p) = (&generator, settings, progress);
+            match (settings.aovs, tracer.has_alpha()) {
+                (true, true) => trace_film::<true, true>(tracer, g, lens, res, s, pass, p),
+                (true, false) => trace_film::<true, false>(tracer, g, lens, res, s, pass, p),
+                (false, true) => trace_film::<false, true>(tracer, g, lens, res, s, pass, p),
+                (false, false) => trace_film::<false, false>(tracer, g, lens, res, s, pass, p),
+            }
+        };
+        match adaptive::pilot_spp(settings.spp).filter(|_| settings.adaptive) {
+            None => trace(&Pass { start: 0, ends: Ends::All(settings.spp), previous: None }),
+            Some(pilot) => {
+                let (film, pilot_rays) = trace(&Pass { start: 0, ends: Ends::All(pilot), previous: None });
+                let counts = adaptive::sample_counts(&film, res.x, res.y, settings.spp);
+                let pass = Pass { start: pilot, ends: Ends::PerPixel(&counts), previous: Some(&film) };
+                let (film, rays) = trace(&pass);
+                (film, pilot_rays + rays)
+            }
         }
     };
     let seconds = start.elapsed().as_secs_f64();
     lenses.end_frame(camera, frame)?;
 
-    let film = Film::new(res.x, res.y, settings.spp, pixels);
+    let samples = pixels.iter().map(|p| p.samples() as u64).sum();
+    let film = Film::new(res.x, res.y, pixels);
     let stats = RenderStats {
         seconds,
-        samples: res.x as u64 * res.y as u64 * settings.spp as u64,
+        samples,
         rays,
         nonfinite_samples: film.nonfinite_samples(),
         dropped_samples: film.dropped_samples(),
@@ -143,13 +164,31 @@ pub fn render(
     Ok(Rendered { images: film.images(), stats })
 }
 
-/// Traces every pixel; returns the accumulators in row-major order and the ray count.
+/// The samples one pass over the film takes: each pixel's indices `start` .. its end, added
+/// to its accumulator from `previous` (row-major) if there is one.
+struct Pass<'a> {
+    start: u32,
+    ends: Ends<'a>,
+    previous: Option<&'a [PixelAccumulator]>,
+}
+
+/// Where each pixel's samples end.
+enum Ends<'a> {
+    /// The same for every pixel.
+    All(u32),
+    /// Per pixel, row-major.
+    PerPixel(&'a [u32]),
+}
+
+/// Traces one pass over every pixel; returns the accumulators in row-major order and the ray
+/// count.
 fn trace_film<const AOV: bool, const ALPHA: bool>(
     tracer: &PathTracer,
     generator: &dyn RayGenerator,
     uses_lens: bool,
     res: UVec2,
     settings: &RenderSettings,
+    pass: &Pass,
     progress: &dyn Progress,
 ) -> (Vec<PixelAccumulator>, u64) {
     let tiles_x = res.x.div_ceil(TILE);
@@ -158,20 +197,29 @@ fn trace_film<const AOV: bool, const ALPHA: bool>(
     let shutter_length = settings.shutter.1 - settings.shutter.0;
     // Pinhole cameras and instantaneous shutters draw no lens or time numbers.
     let needs_lens_time = uses_lens || shutter_length > 0.0;
-    let job =
-        TileJob { tracer, generator, res, tiles_x, settings, frame_time, shutter_length, needs_lens_time };
+    let job = TileJob {
+        tracer,
+        generator,
+        res,
+        tiles_x,
+        settings,
+        pass,
+        frame_time,
+        shutter_length,
+        needs_lens_time,
+    };
     let v3 = cpu::has_x86_64_v3();
     let tiles: Vec<(Vec<PixelAccumulator>, u64)> = (0..tiles_x * tiles_y)
         .into_par_iter()
         .map(|tile| {
-            let out = if v3 {
+            let (accs, rays, samples) = if v3 {
                 // SAFETY: the CPU has every feature `trace_tile_v3` enables (checked above).
                 unsafe { cpu::trace_tile_v3::<AOV, ALPHA>(&job, tile) }
             } else {
                 job.trace_tile::<AOV, ALPHA>(tile)
             };
-            progress.advance(out.0.len() as u64);
-            out
+            progress.advance(samples);
+            (accs, rays)
         })
         .collect();
 
@@ -199,6 +247,7 @@ struct TileJob<'a> {
     res: UVec2,
     tiles_x: u32,
     settings: &'a RenderSettings,
+    pass: &'a Pass<'a>,
     frame_time: f32,
     shutter_length: f32,
     /// Pinhole cameras and instantaneous shutters draw no lens or time numbers.
@@ -206,22 +255,29 @@ struct TileJob<'a> {
 }
 
 impl TileJob<'_> {
-    /// Traces every sample of tile `tile`: its pixels' accumulators in row-major order within
-    /// the tile, and the rays traced.
+    /// Traces the pass's samples of tile `tile`: its pixels' accumulators in row-major order
+    /// within the tile, the rays traced and the samples taken.
     #[inline(always)]
-    fn trace_tile<const AOV: bool, const ALPHA: bool>(&self, tile: u32) -> (Vec<PixelAccumulator>, u64) {
+    fn trace_tile<const AOV: bool, const ALPHA: bool>(&self, tile: u32) -> (Vec<PixelAccumulator>, u64, u64) {
         let (res, settings, tracer) = (self.res, self.settings, self.tracer);
         let x0 = (tile % self.tiles_x) * TILE;
         let y0 = (tile / self.tiles_x) * TILE;
         let x1 = (x0 + TILE).min(res.x);
         let y1 = (y0 + TILE).min(res.y);
         let mut out = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
-        let mut rays = 0u64;
+        let (mut rays, mut samples) = (0u64, 0u64);
+        let pass = self.pass;
         for y in y0..y1 {
             for x in x0..x1 {
                 let pixel = UVec2::new(x, y);
-                let mut acc = PixelAccumulator::default();
-                for index in 0..settings.spp {
+                let i = (y * res.x + x) as usize;
+                let mut acc = pass.previous.map_or_else(PixelAccumulator::default, |p| p[i]);
+                let end = match pass.ends {
+                    Ends::All(end) => end,
+                    Ends::PerPixel(ends) => ends[i],
+                };
+                samples += end.saturating_sub(pass.start) as u64;
+                for index in pass.start..end {
                     let sampler = Sampler::new(pixel, index, settings.seed);
                     let [jx, jy, l0, l1] = sampler.get(sets::CAMERA);
                     let [lens_u, lens_v, u_time, _] =
@@ -246,7 +302,7 @@ impl TileJob<'_> {
                 out.push(acc);
             }
         }
-        (out, rays)
+        (out, rays, samples)
     }
 }
 
@@ -287,7 +343,7 @@ mod cpu {
     pub(super) unsafe fn trace_tile_v3<const AOV: bool, const ALPHA: bool>(
         job: &TileJob,
         tile: u32,
-    ) -> (Vec<PixelAccumulator>, u64) {
+    ) -> (Vec<PixelAccumulator>, u64, u64) {
         job.trace_tile::<AOV, ALPHA>(tile)
     }
 
@@ -296,7 +352,7 @@ mod cpu {
     pub(super) unsafe fn trace_tile_v3<const AOV: bool, const ALPHA: bool>(
         job: &TileJob,
         tile: u32,
-    ) -> (Vec<PixelAccumulator>, u64) {
+    ) -> (Vec<PixelAccumulator>, u64, u64) {
         job.trace_tile::<AOV, ALPHA>(tile)
     }
 }
