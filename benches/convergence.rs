@@ -3,16 +3,18 @@
 //!
 //! `cargo bench -p mcctrace-suite --bench convergence` renders `scenes/cornell/cornell.gltf`
 //! (camera `cornell`, 256², at most 4 scattering vertices, default roulette depth) at 1, 2, 4,
-//! … 256 spp on the default rayon pool, times each by the render's own `stats.seconds` (tracing
-//! only; best of a few runs — the image is the same each run, the seed being fixed), measures
-//! relMSE against the Mitsuba 3 reference with `tracer::compare::rel_mse` (mean over pixels and
-//! channels of (x − r)² / (r² + 0.01)), and writes
+//! … 256 spp on the default rayon pool, with samples spread evenly and (from 4 spp) with
+//! adaptive sampling (`tracer::adaptive`, spp then being the average), times each by the
+//! render's own `stats.seconds` (tracing only; best of a few runs — the image is the same each
+//! run, the seed being fixed), measures relMSE against the Mitsuba 3 reference with
+//! `tracer::compare::rel_mse` (mean over pixels and channels of (x − r)² / (r² + 0.01)), and
+//! writes
 //!
-//! - `target/convergence/cornell.csv`: rows `spp,seconds,rel_mse`;
-//! - `target/convergence/cornell.png`: relMSE against seconds on log–log axes, with the peers'
-//!   points and the relMSE = 1e-3 line;
+//! - `target/convergence/cornell.csv` and `cornell-adaptive.csv`: rows `spp,seconds,rel_mse`;
+//! - `target/convergence/cornell.png`: relMSE against seconds on log–log axes, both series,
+//!   with the peers' points and the relMSE = 1e-3 line;
 //!
-//! and prints the table and the time at which relMSE first reaches 1e-3 (log–log interpolation
+//! and prints the tables and the time at which relMSE first reaches 1e-3 (log–log interpolation
 //! between the bracketing spp). Paths are relative to the repository root.
 
 use glam::UVec2;
@@ -64,58 +66,64 @@ fn main() {
     // Warm up (page in, spin up the pool) so the 1-spp timing is not a cold start.
     let _ = render(&tracer, camera.as_ref(), &mut LensChain::new(), &RenderSettings::still(4), &NoProgress);
 
-    let mut rows = Vec::new();
-    println!("{:>5} {:>9} {:>11} {:>11} {:>13}", "spp", "seconds", "relMSE", "relMSE·spp", "M samples/s");
-    for k in 0..=8 {
-        let spp = 1u32 << k;
-        let runs = if spp <= 32 {
-            5
-        } else if spp <= 128 {
-            3
-        } else {
-            2
-        };
-        let settings = RenderSettings { seed: SEED, ..RenderSettings::still(spp) };
-        let mut best = f64::INFINITY;
-        let mut error = f64::NAN;
-        for _ in 0..runs {
-            let r = render(&tracer, camera.as_ref(), &mut LensChain::new(), &settings, &NoProgress)
-                .expect("render");
-            assert_eq!(r.stats.nonfinite_samples, 0, "{spp} spp: NaN/Inf samples");
-            best = best.min(r.stats.seconds);
-            error = rel_mse(&r.images.image, &reference);
-        }
-        let samples = (SIZE * SIZE) as f64 * spp as f64;
-        println!(
-            "{spp:>5} {best:>9.4} {error:>11.3e} {:>11.4} {:>13.2}",
-            error * spp as f64,
-            samples / best / 1e6
-        );
-        rows.push(Row { spp, seconds: best, rel_mse: error });
-    }
-
-    let crossing = time_to(&rows, TARGET);
-    match crossing {
-        Some((seconds, spp)) => {
+    let series = |adaptive: bool| {
+        println!("\n{} sampling", if adaptive { "adaptive" } else { "uniform" });
+        println!("{:>5} {:>9} {:>11} {:>11} {:>13}", "spp", "seconds", "relMSE", "relMSE·spp", "M samples/s");
+        let mut rows = Vec::new();
+        for k in if adaptive { 2..=8 } else { 0..=8 } {
+            let spp = 1u32 << k;
+            let runs = if spp <= 32 {
+                5
+            } else if spp <= 128 {
+                3
+            } else {
+                2
+            };
+            let settings = RenderSettings { seed: SEED, adaptive, ..RenderSettings::still(spp) };
+            let (mut best, mut error, mut samples) = (f64::INFINITY, f64::NAN, 0);
+            for _ in 0..runs {
+                let r = render(&tracer, camera.as_ref(), &mut LensChain::new(), &settings, &NoProgress)
+                    .expect("render");
+                assert_eq!(r.stats.nonfinite_samples, 0, "{spp} spp: NaN/Inf samples");
+                best = best.min(r.stats.seconds);
+                error = rel_mse(&r.images.image, &reference);
+                samples = r.stats.samples;
+            }
             println!(
-                "relMSE {TARGET:e} first reached after {seconds:.3} s (≈ {spp:.0} spp, log–log interpolation)"
-            )
+                "{spp:>5} {best:>9.4} {error:>11.3e} {:>11.4} {:>13.2}",
+                error * spp as f64,
+                samples as f64 / best / 1e6
+            );
+            rows.push(Row { spp, seconds: best, rel_mse: error });
         }
-        None => println!("relMSE {TARGET:e} not reached by {} spp", rows.last().unwrap().spp),
-    }
+        let crossing = time_to(&rows, TARGET);
+        match crossing {
+            Some((seconds, spp)) => println!(
+                "relMSE {TARGET:e} first reached after {seconds:.3} s (≈ {spp:.0} spp, log–log interpolation)"
+            ),
+            None => println!("relMSE {TARGET:e} not reached by {} spp", rows.last().unwrap().spp),
+        }
+        (rows, crossing)
+    };
+    let uniform = series(false);
+    let adaptive = series(true);
 
     let dir = root.join("target/convergence");
     std::fs::create_dir_all(&dir).expect("create target/convergence");
-    let mut csv = String::from("spp,seconds,rel_mse\n");
-    for r in &rows {
-        writeln!(csv, "{},{:.6},{:.6e}", r.spp, r.seconds, r.rel_mse).unwrap();
+    for (name, (rows, _)) in [("cornell.csv", &uniform), ("cornell-adaptive.csv", &adaptive)] {
+        let mut csv = String::from("spp,seconds,rel_mse\n");
+        for r in rows {
+            writeln!(csv, "{},{:.6},{:.6e}", r.spp, r.seconds, r.rel_mse).unwrap();
+        }
+        std::fs::write(dir.join(name), csv).expect("write the CSV");
     }
-    let csv_path = dir.join("cornell.csv");
-    std::fs::write(&csv_path, csv).expect("write the CSV");
     let png_path = dir.join("cornell.png");
-    plot(&png_path, &rows, crossing).expect("draw the plot");
-    println!("wrote {} and {}", csv_path.display(), png_path.display());
+    plot(&png_path, &uniform, &adaptive).expect("draw the plot");
+    println!("wrote {}/cornell.csv, cornell-adaptive.csv and cornell.png", dir.display());
 }
+
+/// A series of rows and its crossing of the target.
+type Series = (Vec<Row>, Option<(f64, f64)>);
 
 /// Seconds (and spp) at which relMSE first falls to `target`: log–log interpolation between the
 /// last row above it and the first row at or below it.
@@ -130,7 +138,7 @@ fn time_to(rows: &[Row], target: f64) -> Option<(f64, f64)> {
     Some((lerp(a.seconds, b.seconds), lerp(a.spp as f64, b.spp as f64)))
 }
 
-fn plot(path: &Path, rows: &[Row], crossing: Option<(f64, f64)>) -> Result<(), Box<dyn std::error::Error>> {
+fn plot(path: &Path, uniform: &Series, adaptive: &Series) -> Result<(), Box<dyn std::error::Error>> {
     plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular())
         .map_err(|_| "the bundled DejaVu Sans font did not load")?;
     let root = BitMapBackend::new(path, (1000, 700)).into_drawing_area();
@@ -138,7 +146,8 @@ fn plot(path: &Path, rows: &[Row], crossing: Option<(f64, f64)>) -> Result<(), B
 
     let peers = MITSUBA_LLVM.iter().chain(&MITSUBA_SCALAR).chain(std::iter::once(&CYCLES_AT_TARGET));
     let (mut t_lo, mut t_hi, mut e_lo, mut e_hi) = (f64::INFINITY, 0f64, f64::INFINITY, 0f64);
-    for &(t, e) in rows.iter().map(|r| (r.seconds, r.rel_mse)).collect::<Vec<_>>().iter().chain(peers) {
+    let ours: Vec<(f64, f64)> = uniform.0.iter().chain(&adaptive.0).map(|r| (r.seconds, r.rel_mse)).collect();
+    for &(t, e) in ours.iter().chain(peers) {
         (t_lo, t_hi, e_lo, e_hi) = (t_lo.min(t), t_hi.max(t), e_lo.min(e), e_hi.max(e));
     }
     let (t_lo, t_hi) = (t_lo / 1.5, t_hi * 1.5);
@@ -174,25 +183,30 @@ fn plot(path: &Path, rows: &[Row], crossing: Option<(f64, f64)>) -> Result<(), B
         .label(format!("relMSE = {TARGET:.0e}"))
         .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], grey.stroke_width(2)));
 
-    // mcctrace.
-    let ours = RGBColor(200, 40, 40);
-    let points: Vec<(f64, f64)> = rows.iter().map(|r| (r.seconds, r.rel_mse)).collect();
-    chart
-        .draw_series(LineSeries::new(points.clone(), ours.stroke_width(3)))?
-        .label("mcctrace (1 … 256 spp)")
-        .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], ours.stroke_width(3)));
-    chart.draw_series(points.iter().map(|&p| Circle::new(p, 5, ours.filled())))?;
-    // "N spp" up and to the left of each point (the curve runs down to the right).
-    chart.draw_series(rows.iter().map(|r| {
-        let label = ("sans-serif", 15).into_font().color(&ours);
-        EmptyElement::at((r.seconds, r.rel_mse)) + Text::new(format!("{} spp", r.spp), (-62, -22), label)
-    }))?;
-    if let Some((t, _)) = crossing {
-        chart.draw_series(std::iter::once(Cross::new((t, TARGET), 9, ours.stroke_width(3))))?;
-        let label = ("sans-serif", 16).into_font().color(&ours);
-        chart.draw_series(std::iter::once(
-            EmptyElement::at((t, TARGET)) + Text::new(format!("1e-3 at {t:.2} s"), (10, 8), label),
-        ))?;
+    // mcctrace: both series.
+    for ((rows, crossing), colour, name, dy) in [
+        (uniform, RGBColor(200, 40, 40), "mcctrace (1 … 256 spp)", -22),
+        (adaptive, RGBColor(150, 40, 160), "mcctrace adaptive (4 … 256 spp average)", 14),
+    ] {
+        let points: Vec<(f64, f64)> = rows.iter().map(|r| (r.seconds, r.rel_mse)).collect();
+        chart
+            .draw_series(LineSeries::new(points.clone(), colour.stroke_width(3)))?
+            .label(name)
+            .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], colour.stroke_width(3)));
+        chart.draw_series(points.iter().map(|&p| Circle::new(p, 5, colour.filled())))?;
+        // "N spp" beside each point: above left for the uniform series, below for the other.
+        chart.draw_series(rows.iter().map(|r| {
+            let label = ("sans-serif", 15).into_font().color(&colour);
+            EmptyElement::at((r.seconds, r.rel_mse)) + Text::new(format!("{} spp", r.spp), (-62, dy), label)
+        }))?;
+        if let Some((t, _)) = *crossing {
+            chart.draw_series(std::iter::once(Cross::new((t, TARGET), 9, colour.stroke_width(3))))?;
+            let label = ("sans-serif", 16).into_font().color(&colour);
+            chart.draw_series(std::iter::once(
+                EmptyElement::at((t, TARGET))
+                    + Text::new(format!("1e-3 at {t:.2} s"), (10, dy.signum() * 20 + 8), label),
+            ))?;
+        }
     }
 
     // Peers.
