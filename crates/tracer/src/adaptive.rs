@@ -1,8 +1,9 @@
 //! Adaptive sampling: where a render's samples go when they need not be spread evenly.
 //!
 //! A pilot pass gives every pixel a quarter of the average budget; the rest goes where the
-//! pilot saw the most *relative* noise, so the finished image's relative error (what the eye
-//! and relMSE measure) is spread evenly instead of piling up in dark, noisy corners. With an
+//! pilot saw the most *relative* noise (variance / (mean² + `REL_MSE_EPSILON`), relMSE's own
+//! weighting), so the finished image's relative error (what the eye and relMSE measure) is
+//! spread evenly instead of piling up in dark, noisy corners. With an
 //! error ∝ v_i / n_i per pixel of relative variance v_i, the mean error is least for
 //! n_i ∝ √v_i (a Lagrange multiplier on Σ n_i); that is the share used here. The pilot's
 //! variance is itself noisy, so it is averaged over each pixel's 3×3 neighbourhood first.
@@ -10,6 +11,7 @@
 //! Everything is a pure function of the pilot film, computed in a fixed order, so the counts
 //! (and the image) do not depend on the thread count.
 
+use crate::compare::REL_MSE_EPSILON;
 use crate::film::PixelAccumulator;
 use crate::sampler::MAX_SAMPLES_PER_PIXEL;
 
@@ -18,11 +20,6 @@ pub const PILOT_SHARE: u32 = 4;
 
 /// No pixel takes more than this many times the average samples per pixel.
 pub const MAX_SHARE: u32 = 16;
-
-/// Radiance below this counts as this much when noise is measured relative to the pixel's
-/// value (a black pixel's noise is measured against 0.1, not divided by zero); relMSE in
-/// `crate::compare` and the benchmarks uses the same floor.
-pub const RELATIVE_FLOOR: f64 = 0.1;
 
 /// The pilot pass's samples per pixel for an average of `spp`, or `None` when `spp` is too
 /// small to split (under [`PILOT_SHARE`] samples: every pixel takes all of them).
@@ -39,12 +36,11 @@ pub fn sample_counts(pilot: &[PixelAccumulator], width: u32, height: u32, spp: u
     let Some(pilot_spp) = pilot_spp(spp) else {
         return vec![spp; pilot.len()];
     };
-    let floor2 = RELATIVE_FLOOR * RELATIVE_FLOOR;
     let relative: Vec<f64> = pilot
         .iter()
         .map(|p| {
             let (mean, var) = (p.mean(), p.variance());
-            (0..3).map(|c| var[c] / (mean[c] * mean[c] + floor2)).sum::<f64>() / 3.0
+            (0..3).map(|c| var[c] / (mean[c] * mean[c] + REL_MSE_EPSILON)).sum::<f64>() / 3.0
         })
         .collect();
     let (w, h) = (width as usize, height as usize);

@@ -18,11 +18,15 @@ pub fn mse(image: &RgbImage, reference: &RgbImage) -> f64 {
     mean_over_channels(image, reference, |x, r| (x - r) * (x - r))
 }
 
+/// relMSE's regulariser: a squared error is divided by r² + this, so black pixels count their
+/// error against 0.1 rather than divide by zero (adaptive sampling weighs noise the same way).
+pub const REL_MSE_EPSILON: f64 = 0.01;
+
 /// Relative MSE, the Cornell README's convention: mean over pixels *and* channels of
 /// (x − r)² / (r² + 0.01). (pbrt's variant divides by (r + 0.01)²; the numbers differ.)
 /// Any non-finite pixel in either image makes it non-finite, never silently skipped.
 pub fn rel_mse(image: &RgbImage, reference: &RgbImage) -> f64 {
-    mean_over_channels(image, reference, |x, r| (x - r) * (x - r) / (r * r + 0.01))
+    mean_over_channels(image, reference, |x, r| (x - r) * (x - r) / (r * r + REL_MSE_EPSILON))
 }
 
 fn mean_over_channels(image: &RgbImage, reference: &RgbImage, f: impl Fn(f64, f64) -> f64) -> f64 {

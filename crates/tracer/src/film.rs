@@ -56,12 +56,6 @@ impl PixelAccumulator {
         self.dropped += 1;
     }
 
-    /// Samples taken so far.
-    #[inline]
-    pub fn samples(&self) -> u32 {
-        self.samples
-    }
-
     /// The mean of the samples so far (black before the first).
     pub fn mean(&self) -> DVec3 {
         self.sum / self.samples.max(1) as f64
@@ -107,6 +101,11 @@ impl Film {
     pub fn new(width: u32, height: u32, pixels: Vec<PixelAccumulator>) -> Self {
         debug_assert_eq!(pixels.len(), width as usize * height as usize);
         Self { width, height, pixels }
+    }
+
+    /// Total samples taken.
+    pub fn samples(&self) -> u64 {
+        self.pixels.iter().map(|p| p.samples as u64).sum()
     }
 
     /// Total non-finite samples.

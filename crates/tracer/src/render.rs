@@ -152,11 +152,10 @@ pub fn render(
     let seconds = start.elapsed().as_secs_f64();
     lenses.end_frame(camera, frame)?;
 
-    let samples = pixels.iter().map(|p| p.samples() as u64).sum();
     let film = Film::new(res.x, res.y, pixels);
     let stats = RenderStats {
         seconds,
-        samples,
+        samples: film.samples(),
         rays,
         nonfinite_samples: film.nonfinite_samples(),
         dropped_samples: film.dropped_samples(),
