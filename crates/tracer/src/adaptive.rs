@@ -60,16 +60,16 @@ pub fn sample_counts(pilot: &[PixelAccumulator], width: u32, height: u32, spp: u
     let total: f64 = weight.iter().sum();
     let extra = (spp - pilot_spp) as f64 * pilot.len() as f64;
     let most = MAX_SAMPLES_PER_PIXEL.min(spp.saturating_mul(MAX_SHARE));
+    // A film with no noise at all (or NaN weights, which cannot arise from finite
+    // accumulators) is sampled evenly.
+    let even = !(total > 0.0 && total.is_finite());
     // Shares are fractional; the fractions carry on to the next pixel (row-major), so the
     // counts add up to the budget instead of losing up to a sample per pixel to rounding.
     let mut carry = 0.0;
     weight
         .iter()
         .map(|&wt| {
-            // A film with no noise at all (or NaN weights, which cannot arise from finite
-            // accumulators) is sampled evenly.
-            let share =
-                if total > 0.0 && total.is_finite() { extra * wt / total } else { (spp - pilot_spp) as f64 };
+            let share = if even { (spp - pilot_spp) as f64 } else { extra * wt / total };
             let whole = (share + carry).floor();
             carry = share + carry - whole;
             (pilot_spp as f64 + whole).min(most as f64) as u32
