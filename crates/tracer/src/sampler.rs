@@ -76,40 +76,17 @@ impl Sampler {
         let [high, low] = self.sobol_bytes;
         let sobol = high[(shuffled >> 24) as usize] ^ low[((shuffled >> 16) & 0xff) as usize];
         let seed = seed.wrapping_mul(0x9c8f_2d3b);
-        let scramble = [0x912f_69ba, 0x174f_18ab, 0x691e_72ca, 0xb40c_c1b8];
-        let scramble = hash_lanes(std::array::from_fn(|i| seed ^ scramble[i]));
-        Int4::from(owen_scramble_lanes(sobol.into(), scramble)).reverse_bits().to_f32_norm()
+        // `parts::owen_scramble_int4_rev(sobol, parts::hash_int4(..))`, lane by lane through the
+        // scalar versions of the same functions: `Int4` picks its multiply when sobol_burley is
+        // compiled, so even the x86-64-v3 build of the tile loop got SSE2's five-step emulation
+        // of a 32-bit lane multiply; plain lanes let each build use its own (one `vpmulld` on
+        // x86-64-v3). Integer arithmetic, so the bits are the same either way.
+        let mut lanes: [u32; 4] = sobol.into();
+        for (x, c) in lanes.iter_mut().zip([0x912f_69ba, 0x174f_18ab, 0x691e_72ca, 0xb40c_c1b8]) {
+            *x = parts::owen_scramble_rev(*x, parts::hash(seed ^ c));
+        }
+        Int4::from(lanes).reverse_bits().to_f32_norm()
     }
-}
-
-/// `sobol_burley::parts::hash_int4`, written lane by lane. `Int4` picks its multiply when
-/// the crate is compiled, so even the x86-64-v3 build of the tile loop got SSE2's five-step
-/// emulation of a 32-bit lane multiply; plain lanes let each build use its own (one
-/// `vpmulld` on x86-64-v3). Integer arithmetic, so the bits are the same either way.
-#[inline(always)]
-fn hash_lanes(mut n: [u32; 4]) -> [u32; 4] {
-    for x in &mut n {
-        *x ^= 0xe6fe_3beb;
-        *x ^= *x >> 16;
-        *x = x.wrapping_mul(0x7feb_352d);
-        *x ^= *x >> 15;
-        *x = x.wrapping_mul(0x846c_a68b);
-        *x ^= *x >> 16;
-    }
-    n
-}
-
-/// `sobol_burley::parts::owen_scramble_int4_rev`, written lane by lane (see [`hash_lanes`]).
-#[inline(always)]
-fn owen_scramble_lanes(mut n_rev: [u32; 4], scramble: [u32; 4]) -> [u32; 4] {
-    for (x, s) in n_rev.iter_mut().zip(scramble) {
-        *x ^= x.wrapping_mul(0x3d20_adea);
-        *x = x.wrapping_add(s);
-        *x = x.wrapping_mul((s >> 16) | 1);
-        *x ^= x.wrapping_mul(0x0552_6c56);
-        *x ^= x.wrapping_mul(0x53a2_2864);
-    }
-    n_rev
 }
 
 /// A 32-bit integer hash with good avalanche (Chris Wellons' "lowbias32").
