@@ -98,6 +98,10 @@ pub struct PathTracer {
     material_ids: Vec<u32>,
     textures: Vec<Texture>,
     attributes: Attributes,
+    /// Per triangle (mesh order): the unit geometric normal, computed once here rather than at
+    /// every hit, where its cross product, square root and division sat between the hit and
+    /// everything shading does with it.
+    geometric_normals: Vec<Vec3>,
     /// Per triangle: does its material have an alpha test? `None` when no material does, in
     /// which case traversal runs without any test callback.
     alpha_tested: Option<Vec<bool>>,
@@ -138,8 +142,16 @@ impl PathTracer {
             });
         let lights = LightSampler::new(scene);
         let lights_cover_emission = lights.environment().is_some() || scene.environment.color == Vec3::ZERO;
+        let bvh = Bvh::build(mesh);
+        let geometric_normals = (0..mesh.triangle_count() as u32)
+            .map(|t| {
+                let [v0, v1, v2] = bvh.triangle_corners_by_id(t);
+                (v1 - v0).cross(v2 - v0).normalize_or(Vec3::Z)
+            })
+            .collect();
         Ok(Self {
-            bvh: Bvh::build(mesh),
+            bvh,
+            geometric_normals,
             lights,
             lights_cover_emission,
             materials: scene.materials.clone(),
@@ -181,9 +193,8 @@ impl PathTracer {
     pub fn interaction(&self, hit: &Hit) -> SurfaceInteraction {
         let tri = self.bvh.triangle(hit.slot);
         let (p, p_error) = crate::triangle::hit_point(tri, hit.barycentrics);
-        let [v0, v1, v2] = tri.map(Vec3::from_array);
-        let n_geom = (v1 - v0).cross(v2 - v0).normalize_or(Vec3::Z);
         let t = hit.triangle as usize;
+        let n_geom = self.geometric_normals[t];
         let n_shading = match &self.attributes.normals {
             Some(normals) => {
                 let [n0, n1, n2] = normals[t];
