@@ -23,7 +23,7 @@ use crate::light::{LightSampler, ShadowTarget};
 use crate::material::{AlphaMode, Material};
 use crate::ray::Ray;
 use crate::sampler::{Sampler, sets};
-use crate::sampling::power_heuristic;
+use crate::sampling::{Frame, power_heuristic};
 use crate::scene::Scene;
 use crate::shading::{self, ShadingPoint, TangentFrame};
 use crate::texture::Texture;
@@ -98,10 +98,11 @@ pub struct PathTracer {
     material_ids: Vec<u32>,
     textures: Vec<Texture>,
     attributes: Attributes,
-    /// Per triangle (mesh order): the unit geometric normal, computed once here rather than at
-    /// every hit, where its cross product, square root and division sat between the hit and
-    /// everything shading does with it.
-    geometric_normals: Vec<Vec3>,
+    /// Per triangle (mesh order): the frame around the unit geometric normal (its z), computed
+    /// once here rather than at every hit, where the normal's cross product, square root and
+    /// division and the frame's own division sat between the hit and everything shading does
+    /// with it. Flat-shaded hits use it as their shading frame (36 bytes per triangle).
+    geometric_frames: Vec<Frame>,
     /// Per triangle: does its material have an alpha test? `None` when no material does, in
     /// which case traversal runs without any test callback.
     alpha_tested: Option<Vec<bool>>,
@@ -142,15 +143,15 @@ impl PathTracer {
             });
         let lights = LightSampler::new(scene);
         let lights_cover_emission = lights.environment().is_some() || scene.environment.color == Vec3::ZERO;
-        let geometric_normals = (0..mesh.triangle_count())
+        let geometric_frames = (0..mesh.triangle_count())
             .map(|t| {
                 let [v0, v1, v2] = mesh.corners(t);
-                (v1 - v0).cross(v2 - v0).normalize_or(Vec3::Z)
+                Frame::from_z((v1 - v0).cross(v2 - v0).normalize_or(Vec3::Z))
             })
             .collect();
         Ok(Self {
             bvh: Bvh::build(mesh),
-            geometric_normals,
+            geometric_frames,
             lights,
             lights_cover_emission,
             materials: scene.materials.clone(),
@@ -193,25 +194,26 @@ impl PathTracer {
         let tri = self.bvh.triangle(hit.slot);
         let (p, p_error) = crate::triangle::hit_point(tri, hit.barycentrics);
         let t = hit.triangle as usize;
-        let n_geom = self.geometric_normals[t];
-        let n_shading = match &self.attributes.normals {
+        let geometric = self.geometric_frames[t];
+        let n_geom = geometric.z;
+        let shading = match &self.attributes.normals {
             Some(normals) => {
                 let [n0, n1, n2] = normals[t];
                 // A zero vertex normal marks a part without normals: shade it flat.
                 if n0 == Vec3::ZERO || n1 == Vec3::ZERO || n2 == Vec3::ZERO {
-                    n_geom
+                    geometric
                 } else {
-                    lerp3(normals[t], hit.barycentrics).normalize_or(n_geom)
+                    Frame::from_z(lerp3(normals[t], hit.barycentrics).normalize_or(n_geom))
                 }
             }
-            None => n_geom,
+            None => geometric,
         };
         let uv = self.uvs(hit.triangle, hit.barycentrics)[0];
         SurfaceInteraction {
             p,
             p_error,
             n_geom,
-            n_shading,
+            shading,
             uv,
             triangle: hit.triangle,
             material: self.material_ids[t],
@@ -228,13 +230,13 @@ impl PathTracer {
                 metallic: material.metallic,
                 roughness: material.roughness,
                 emission: material.emission,
-                normal: si.n_shading,
+                normal: si.shading.z,
             };
         }
         let uv = self.uvs(si.triangle, b);
         let frame =
             if material.textures.normal.is_some() { self.tangent_frame(si.triangle, b) } else { NO_FRAME };
-        shading::evaluate(material, &self.textures, uv, si.n_shading, &frame)
+        shading::evaluate(material, &self.textures, uv, si.shading.z, &frame)
     }
 
     /// Tangent data for normal mapping: vertex tangents if the mesh has them, and the
@@ -413,7 +415,10 @@ impl PathTracer {
                     roughness: sp.roughness,
                     ..BsdfParams::of(material)
                 };
-                let bsdf = Bsdf::with_params(&params, sp.normal, si.n_geom, wo);
+                // The hit's shading frame, unless a normal map moved the normal.
+                let frame =
+                    if material.textures.normal.is_some() { Frame::from_z(sp.normal) } else { si.shading };
+                let bsdf = Bsdf::with_frame(&params, frame, si.n_geom, wo);
                 if bsdf.is_black() {
                     break;
                 }

@@ -4,6 +4,7 @@
 //! never by a fixed epsilon.
 
 use crate::ray::Ray;
+use crate::sampling::Frame;
 use glam::{Vec2, Vec3};
 
 /// Geometry at a ray–surface hit.
@@ -15,8 +16,9 @@ pub struct SurfaceInteraction {
     pub p_error: Vec3,
     /// Unit geometric normal of the triangle's front face (counter-clockwise winding).
     pub n_geom: Vec3,
-    /// Unit shading normal (interpolated vertex normals, or `n_geom`).
-    pub n_shading: Vec3,
+    /// The shading frame: its z is the unit shading normal (interpolated vertex normals, or
+    /// `n_geom` with the triangle's precomputed tangents).
+    pub shading: Frame,
     /// Texture coordinates.
     pub uv: Vec2,
     /// The mesh triangle hit.

@@ -117,12 +117,19 @@ impl Bsdf {
 
     /// The BSDF with parameters `p` (e.g. textured) at a point with shading normal `ns` and
     /// geometric normal `ng`, seen from world direction `wo`.
-    #[inline(always)]
+    #[inline]
     pub fn with_params(p: &BsdfParams, ns: Vec3, ng: Vec3, wo: Vec3) -> Self {
+        Self::with_frame(p, Frame::from_z(ns), ng, wo)
+    }
+
+    /// [`Bsdf::with_params`] given the shading frame (z: the unit shading normal, facing either
+    /// way) instead of the normal, for callers that have it already (a triangle's precomputed
+    /// frame): the same BSDF, bit for bit.
+    #[inline(always)]
+    pub fn with_frame(p: &BsdfParams, shading: Frame, ng: Vec3, wo: Vec3) -> Self {
         // Face both normals towards wo.
         let ng = if ng.dot(wo) < 0.0 { -ng } else { ng };
-        let ns = if ns.dot(ng) < 0.0 { -ns } else { ns };
-        let frame = Frame::from_z(ns);
+        let frame = if shading.z.dot(ng) < 0.0 { shading.flipped() } else { shading };
         let mut wo_local = frame.to_local(wo);
         // A shading normal can put wo below its horizon; keep it just above for the lobes.
         wo_local.z = wo_local.z.max(1e-6);
