@@ -1,7 +1,7 @@
 //! Warping functions from [0, 1)^n to the shapes the integrator samples (pbrt-v4 §A.5).
 
 use glam::{Vec2, Vec3};
-use std::f32::consts::{FRAC_PI_4, PI};
+use std::f32::consts::FRAC_PI_4;
 
 /// Uniform point on the unit disk, Shirley–Chiu concentric mapping (keeps strata compact).
 ///
@@ -36,6 +36,29 @@ pub fn sin_cos_quarter(x: f32) -> (f32, f32) {
     (sin, cos)
 }
 
+/// sin and cos of 2π·u for u in [0, 1]: the turn is cut into eighths, and each eighth is
+/// measured from its nearer multiple of π/2, so [`sin_cos_quarter`] covers it, and the
+/// symmetries of sin and cos (a quarter turn swaps them with a sign) put it back. 8u, its
+/// integer part and the remainder are exact. Tested against f64 below.
+#[inline(always)]
+pub fn sin_cos_turn(u: f32) -> (f32, f32) {
+    debug_assert!((0.0..=1.0).contains(&u), "{u} outside [0, 1]");
+    let v = 8.0 * u;
+    let k = (v as u32).min(7);
+    let f = v - k as f32;
+    // Eighth k = 2m starts at m quarter turns: the angle is m·π/2 + x. Eighth k = 2m + 1
+    // ends at m + 1 quarter turns: the angle is (m + 1)·π/2 − x. Either way x ∈ [0, π/4].
+    // The eighth is random for every sample, so its cases are sign flips and one swap,
+    // done on bits and selects, never branches.
+    let odd = k & 1;
+    let (s, c) = sin_cos_quarter(FRAC_PI_4 * if odd == 1 { 1.0 - f } else { f });
+    let s = f32::from_bits(s.to_bits() ^ (odd << 31));
+    // A quarter turn q maps (sin, cos) to (c, −s), (−s, −c), (−c, s) for q = 1, 2, 3.
+    let q = k.div_ceil(2) & 3;
+    let (a, b) = if q & 1 == 1 { (c, s) } else { (s, c) };
+    (f32::from_bits(a.to_bits() ^ ((q & 2) << 30)), f32::from_bits(b.to_bits() ^ (((q + 1) & 2) << 30)))
+}
+
 /// Cosine-weighted direction on the +Z hemisphere (Malley's method); pdf = cos θ / π.
 #[inline]
 pub fn sample_cosine_hemisphere(u: Vec2) -> Vec3 {
@@ -64,7 +87,7 @@ pub fn sample_uniform_triangle(u: Vec2) -> [f32; 3] {
 pub fn sample_uniform_sphere(u: Vec2) -> Vec3 {
     let z = 1.0 - 2.0 * u.x;
     let r = (1.0 - z * z).max(0.0).sqrt();
-    let (s, c) = (2.0 * PI * u.y).sin_cos();
+    let (s, c) = sin_cos_turn(u.y);
     Vec3::new(r * c, r * s, z)
 }
 
@@ -160,6 +183,22 @@ mod tests {
             worst_cos = worst_cos.max((c as f64 - ec).abs() / ulp(ec));
         }
         assert!(worst_sin <= 1.0 && worst_cos <= 1.0, "sin {worst_sin} ulp, cos {worst_cos} ulp");
+    }
+
+    /// sin and cos of a turn against f64's, on 400,001 points of [0, 1] (the octant edges
+    /// included): within 1.2e-7, one ulp at 1 (measured: 8.8e-8). libm's sin of the angle
+    /// rounded to f32, 2π·u, can be off by 3.7e-7 near u = 1 from that rounding alone.
+    #[test]
+    fn sin_cos_turn_matches_f64() {
+        let n = 400_000;
+        let mut worst = 0.0f64;
+        for i in 0..=n {
+            let u = i as f32 / n as f32;
+            let (s, c) = sin_cos_turn(u);
+            let (es, ec) = (std::f64::consts::TAU * u as f64).sin_cos();
+            worst = worst.max((s as f64 - es).abs()).max((c as f64 - ec).abs());
+        }
+        assert!(worst <= 1.2e-7, "{worst}");
     }
 
     /// The polynomial concentric mapping lands where the libm one does (within 3e-7), on a

@@ -64,10 +64,9 @@ impl Ggx {
     pub fn sample_visible_normal(&self, wo: Vec3, u: Vec2) -> Vec3 {
         // Stretch to the unit-roughness configuration, sample a spherical cap, unstretch.
         let wo_std = Vec3::new(wo.x * self.alpha, wo.y * self.alpha, wo.z).normalize();
-        let phi = 2.0 * PI * u.x;
         let z = (1.0 - u.y) * (1.0 + wo_std.z) - wo_std.z;
         let sin_theta = (1.0 - z * z).clamp(0.0, 1.0).sqrt();
-        let (s, c) = phi.sin_cos();
+        let (s, c) = crate::sampling::sin_cos_turn(u.x);
         let h_std = Vec3::new(sin_theta * c, sin_theta * s, z) + wo_std;
         Vec3::new(h_std.x * self.alpha, h_std.y * self.alpha, h_std.z.max(0.0)).normalize_or(Vec3::Z)
     }
