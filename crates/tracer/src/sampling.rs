@@ -201,11 +201,11 @@ mod tests {
         assert!(worst <= 1.2e-7, "{worst}");
     }
 
-    /// The polynomial concentric mapping lands where the libm one does (within 3e-7), on a
-    /// 257² grid that includes both cases, the diagonals and the centre.
+    /// The polynomial concentric mapping lands within 3e-7 of the same mapping computed in
+    /// f64, on a 257² grid that includes both cases, the diagonals and the centre.
     #[test]
-    fn concentric_mapping_matches_libm() {
-        let libm = |u: Vec2| {
+    fn concentric_mapping_matches_f64() {
+        let exact = |u: Vec2| {
             let o = 2.0 * u - Vec2::ONE;
             if o.x == 0.0 && o.y == 0.0 {
                 return Vec2::ZERO;
@@ -224,7 +224,7 @@ mod tests {
             for j in 0..=256 {
                 let u =
                     Vec2::new(i as f32 / 256.0, j as f32 / 256.0).min(Vec2::splat(1.0 - f32::EPSILON / 2.0));
-                let (d, want) = (sample_uniform_disk_concentric(u), libm(u));
+                let (d, want) = (sample_uniform_disk_concentric(u), exact(u));
                 assert!((d - want).abs().max_element() < 3e-7, "{u}: {d} vs {want}");
             }
         }
