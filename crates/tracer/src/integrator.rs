@@ -196,6 +196,10 @@ impl PathTracer {
         let t = hit.triangle as usize;
         let geometric = self.geometric_frames[t];
         let n_geom = geometric.z;
+        // A smooth hit's frame is built here even when no BSDF will need it (the path's last
+        // hit, a normal-mapped material). Building it only at the BSDF, with the flat frame
+        // passed as an Option, gave the same bits and was 4–5 % slower on the café (2 threads,
+        // paired rounds), neutral on the Cornell box.
         let shading = match &self.attributes.normals {
             Some(normals) => {
                 let [n0, n1, n2] = normals[t];

@@ -112,19 +112,12 @@ impl Bsdf {
     /// (both unit, any orientation), seen from world direction `wo`.
     #[inline]
     pub fn new(material: &Material, ns: Vec3, ng: Vec3, wo: Vec3) -> Self {
-        Self::with_params(&BsdfParams::of(material), ns, ng, wo)
+        Self::with_frame(&BsdfParams::of(material), Frame::from_z(ns), ng, wo)
     }
 
-    /// The BSDF with parameters `p` (e.g. textured) at a point with shading normal `ns` and
-    /// geometric normal `ng`, seen from world direction `wo`.
-    #[inline]
-    pub fn with_params(p: &BsdfParams, ns: Vec3, ng: Vec3, wo: Vec3) -> Self {
-        Self::with_frame(p, Frame::from_z(ns), ng, wo)
-    }
-
-    /// [`Bsdf::with_params`] given the shading frame (z: the unit shading normal, facing either
-    /// way) instead of the normal, for callers that have it already (a triangle's precomputed
-    /// frame): the same BSDF, bit for bit.
+    /// The BSDF with parameters `p` (e.g. textured) in the shading frame `shading` (z: the unit
+    /// shading normal, facing either way; `Frame::from_z`, or a triangle's precomputed frame),
+    /// with geometric normal `ng`, seen from world direction `wo`.
     #[inline(always)]
     pub fn with_frame(p: &BsdfParams, shading: Frame, ng: Vec3, wo: Vec3) -> Self {
         // Face both normals towards wo.
