@@ -43,6 +43,13 @@ fn cornell_gltf_and_obj_match_mitsuba_and_each_other() {
     let (gltf, gltf_camera) = cornell_gltf();
     let (obj, obj_camera) = cornell_obj();
     let job = Job::square(256, SPP, SEED);
+    // Both are scenes of untextured, flat-shaded Lambertians, so they render on the Lambert-only
+    // path (bit for bit the general one: `render::tests::lambert_path_is_the_general_path_bit_
+    // for_bit`), and this test holds that path, too, to the reference.
+    for (what, scene) in [("glTF", &gltf), ("OBJ", &obj)] {
+        let tracer = tracer::integrator::PathTracer::new(scene, cornell_config()).unwrap();
+        assert!(tracer.lambert_only(), "the {what} Cornell box is not on the Lambert-only path");
+    }
 
     let r_gltf = timed("glTF render", || render_plain(&gltf, &gltf_camera, job));
     check_against_reference("cornell-gltf", &r_gltf, &reference);

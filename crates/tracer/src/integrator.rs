@@ -106,6 +106,10 @@ pub struct PathTracer {
     /// Per triangle: does its material have an alpha test? `None` when no material does, in
     /// which case traversal runs without any test callback.
     alpha_tested: Option<Vec<bool>>,
+    /// Every material is an untextured, opaque Lambertian (no metallic, specular or
+    /// transmission weight) and no triangle has vertex normals, so renders may take the
+    /// Lambert-only path (see [`PathTracer::lambert_only`]).
+    lambert_only: bool,
     environment: Vec3,
     /// Every emitter a BSDF-sampled ray could reach is also reached by light sampling (no
     /// constant environment outside the light sampler), so the last vertex may estimate its
@@ -141,6 +145,13 @@ impl PathTracer {
             scene.materials.iter().any(Material::has_alpha).then(|| {
                 mesh.material_ids.iter().map(|&m| scene.materials[m as usize].has_alpha()).collect()
             });
+        let lambert_only = attributes.normals.is_none()
+            && scene.materials.iter().all(|m| {
+                m.textures.is_empty()
+                    && !m.has_alpha()
+                    && m.transmission == 0.0
+                    && BsdfParams::of(m).is_lambert()
+            });
         let lights = LightSampler::new(scene);
         let lights_cover_emission = lights.environment().is_some() || scene.environment.color == Vec3::ZERO;
         let geometric_frames = (0..mesh.triangle_count())
@@ -159,6 +170,7 @@ impl PathTracer {
             textures: scene.textures.clone(),
             attributes,
             alpha_tested,
+            lambert_only,
             environment: scene.environment.color,
             config,
         })
@@ -179,6 +191,23 @@ impl PathTracer {
         self.alpha_tested.is_some()
     }
 
+    /// True when every surface is an untextured, opaque, flat-shaded Lambertian (the Cornell
+    /// box's class of scene). Renders then take [`PathTracer::radiance`] with `LAMBERT`, which
+    /// leaves out what such scenes lack (vertex normals, textures, glass, the specular lobe's
+    /// set-up) and gives the same bits as the general path (about 3 % sooner on the Cornell
+    /// box, 2 threads: `docs/performance.md`).
+    pub fn lambert_only(&self) -> bool {
+        self.lambert_only
+    }
+
+    /// Test hook: makes renders take the general path even where the Lambert-only one applies
+    /// (tests compare the two, bit for bit).
+    #[doc(hidden)]
+    pub fn without_lambert_path(mut self) -> Self {
+        self.lambert_only = false;
+        self
+    }
+
     /// Texture coordinates (sets 0 and 1) on `triangle` at barycentrics `b`.
     #[inline]
     fn uvs(&self, triangle: u32, b: [f32; 3]) -> [Vec2; 2] {
@@ -189,8 +218,15 @@ impl PathTracer {
     }
 
     /// The surface geometry at `hit`.
-    #[inline(always)]
+    #[inline]
     pub fn interaction(&self, hit: &Hit) -> SurfaceInteraction {
+        self.surface::<false>(hit)
+    }
+
+    /// The surface geometry at `hit`; with `FLAT` (a mesh without vertex normals), the
+    /// triangle's own frame without looking for vertex normals.
+    #[inline(always)]
+    fn surface<const FLAT: bool>(&self, hit: &Hit) -> SurfaceInteraction {
         let tri = self.bvh.triangle(hit.slot);
         let (p, p_error) = crate::triangle::hit_point(tri, hit.barycentrics);
         let t = hit.triangle as usize;
@@ -201,6 +237,7 @@ impl PathTracer {
         // passed as an Option, gave the same bits and was 4–5 % slower on the café (2 threads,
         // paired rounds), neutral on the Cornell box.
         let shading = match &self.attributes.normals {
+            _ if FLAT => geometric,
             Some(normals) => {
                 let [n0, n1, n2] = normals[t];
                 // A zero vertex normal marks a part without normals: shade it flat.
@@ -212,13 +249,11 @@ impl PathTracer {
             }
             None => geometric,
         };
-        let uv = self.uvs(hit.triangle, hit.barycentrics)[0];
         SurfaceInteraction {
             p,
             p_error,
             n_geom,
             shading,
-            uv,
             triangle: hit.triangle,
             material: self.material_ids[t],
         }
@@ -226,8 +261,13 @@ impl PathTracer {
 
     /// The material evaluated at `si` (textures, normal map).
     #[inline(always)]
-    fn shade(&self, material: &Material, si: &SurfaceInteraction, b: [f32; 3]) -> ShadingPoint {
-        if material.textures.is_empty() {
+    fn shade<const UNTEXTURED: bool>(
+        &self,
+        material: &Material,
+        si: &SurfaceInteraction,
+        b: [f32; 3],
+    ) -> ShadingPoint {
+        if UNTEXTURED || material.textures.is_empty() {
             return ShadingPoint {
                 base_color: material.base_color,
                 alpha: material.alpha,
@@ -312,10 +352,12 @@ impl PathTracer {
 
     /// Estimates the radiance arriving along `ray`; with `AOV`, records the first hit; with
     /// `ALPHA`, runs alpha tests during traversal (only scenes with alpha-tested materials
-    /// need it: see [`PathTracer::has_alpha`]). `u_light` is the first vertex's light sample
+    /// need it: see [`PathTracer::has_alpha`]); with `LAMBERT`, takes the Lambert-only path
+    /// (only for scenes where [`PathTracer::lambert_only`] holds: it reads no texture, vertex
+    /// normal, transmission or specular parameter). `u_light` is the first vertex's light sample
     /// (it shares the camera's set, see `crate::sampler::sets`).
     #[inline(always)]
-    pub fn radiance<const AOV: bool, const ALPHA: bool>(
+    pub fn radiance<const AOV: bool, const ALPHA: bool, const LAMBERT: bool>(
         &self,
         ray: Ray,
         sampler: &Sampler,
@@ -350,9 +392,10 @@ impl PathTracer {
                 }
                 break;
             };
-            let si = self.interaction(&hit);
+            debug_assert!(!LAMBERT || self.lambert_only);
+            let si = self.surface::<LAMBERT>(&hit);
             let material = &self.materials[si.material as usize];
-            let sp = self.shade(material, &si, hit.barycentrics);
+            let sp = self.shade::<LAMBERT>(material, &si, hit.barycentrics);
             let wo = -ray.direction;
 
             if sp.emission != Vec3::ZERO && (material.emission_two_sided || si.n_geom.dot(wo) > 0.0) {
@@ -380,7 +423,7 @@ impl PathTracer {
             let mut decide =
                 |k: usize| decisions.get_or_insert_with(|| sampler.get(sets::decisions(vertex)))[k];
 
-            let glass = glass_weight > 0.0 && (glass_weight >= 1.0 || decide(2) < glass_weight);
+            let glass = !LAMBERT && glass_weight > 0.0 && (glass_weight >= 1.0 || decide(2) < glass_weight);
             if glass {
                 // A smooth dielectric interface: reflect or refract by Fresnel.
                 let entering = si.n_geom.dot(wo) > 0.0;
@@ -413,16 +456,23 @@ impl PathTracer {
                 u_light = Vec2::new(l0, l1);
                 ray = si.spawn_ray(wi, ray.time);
             } else {
-                let params = BsdfParams {
-                    base_color: sp.base_color,
-                    metallic: sp.metallic,
-                    roughness: sp.roughness,
-                    ..BsdfParams::of(material)
+                let bsdf = if LAMBERT {
+                    Bsdf::lambert(sp.base_color, si.shading, si.n_geom, wo)
+                } else {
+                    let params = BsdfParams {
+                        base_color: sp.base_color,
+                        metallic: sp.metallic,
+                        roughness: sp.roughness,
+                        ..BsdfParams::of(material)
+                    };
+                    // The hit's shading frame, unless a normal map moved the normal.
+                    let frame = if material.textures.normal.is_some() {
+                        Frame::from_z(sp.normal)
+                    } else {
+                        si.shading
+                    };
+                    Bsdf::with_frame(&params, frame, si.n_geom, wo)
                 };
-                // The hit's shading frame, unless a normal map moved the normal.
-                let frame =
-                    if material.textures.normal.is_some() { Frame::from_z(sp.normal) } else { si.shading };
-                let bsdf = Bsdf::with_frame(&params, frame, si.n_geom, wo);
                 if bsdf.is_black() {
                     break;
                 }
@@ -438,19 +488,23 @@ impl PathTracer {
                 // The BSDF sample that continues the path, its ray and the next vertex's light
                 // numbers come before next-event estimation. They do not depend on it, and
                 // placed ahead of its shadow query they are computed while the query runs
-                // instead of after it (same bits, ≈ 2 % faster on the Cornell box).
-                let next = (!light_only).then(|| {
+                // instead of after it (same bits, ≈ 2 % faster on the Cornell box). An `if`, not
+                // `bool::then` with a closure: LLVM once left that closure out of line (14 % of
+                // the instructions behind a call, 4–5 % slower).
+                let next = if light_only {
+                    None
+                } else {
                     let [u0, u1, l0, l1] = sampler.get(sets::vertex(depth));
                     let u_lobe = if bsdf.has_lobe_choice() { decide(0) } else { 0.5 };
                     let bs = bsdf.sample(Vec2::new(u0, u1), u_lobe);
-                    (bs.map(|bs| (bs, si.spawn_ray(bs.wi, ray.time))), Vec2::new(l0, l1))
-                });
+                    Some((bs.map(|bs| (bs, si.spawn_ray(bs.wi, ray.time))), Vec2::new(l0, l1)))
+                };
 
                 // Next-event estimation.
                 if let Some(ls) = self.lights.sample(si.p, u_light) {
                     let (f, bsdf_pdf) = bsdf.eval(ls.wi);
                     let mut li = ls.li;
-                    if let Some((tri, b)) = ls.emitter {
+                    if let (false, Some((tri, b))) = (LAMBERT, ls.emitter) {
                         let m = &self.materials[self.material_ids[tri as usize] as usize];
                         if let Some(r) = &m.textures.emissive {
                             li *= r.eval(&self.textures, self.uvs(tri, b)).truncate();

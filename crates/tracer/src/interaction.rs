@@ -5,7 +5,7 @@
 
 use crate::ray::Ray;
 use crate::sampling::Frame;
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 
 /// Geometry at a ray–surface hit.
 #[derive(Clone, Copy, Debug)]
@@ -19,8 +19,6 @@ pub struct SurfaceInteraction {
     /// The shading frame: its z is the unit shading normal (interpolated vertex normals, or
     /// `n_geom` with the triangle's precomputed tangents).
     pub shading: Frame,
-    /// Texture coordinates.
-    pub uv: Vec2,
     /// The mesh triangle hit.
     pub triangle: u32,
     /// Its material.

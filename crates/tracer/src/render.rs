@@ -129,13 +129,16 @@ pub fn render(
         let lens = camera.uses_lens();
         let trace = |pass: &Pass| {
             // Specialised loops: no AOV bookkeeping without AOVs, no alpha tests without
-            // alpha-tested materials.
+            // alpha-tested materials, and the Lambert-only path where every surface is an
+            // untextured, flat-shaded Lambertian (never with alpha tests, which it excludes).
             let (g, s, p) = (&generator, settings, progress);
-            match (settings.aovs, tracer.has_alpha()) {
-                (true, true) => trace_film::<true, true>(tracer, g, lens, res, s, pass, p),
-                (true, false) => trace_film::<true, false>(tracer, g, lens, res, s, pass, p),
-                (false, true) => trace_film::<false, true>(tracer, g, lens, res, s, pass, p),
-                (false, false) => trace_film::<false, false>(tracer, g, lens, res, s, pass, p),
+            match (settings.aovs, tracer.has_alpha(), tracer.lambert_only()) {
+                (true, true, _) => trace_film::<true, true, false>(tracer, g, lens, res, s, pass, p),
+                (true, false, true) => trace_film::<true, false, true>(tracer, g, lens, res, s, pass, p),
+                (true, false, false) => trace_film::<true, false, false>(tracer, g, lens, res, s, pass, p),
+                (false, true, _) => trace_film::<false, true, false>(tracer, g, lens, res, s, pass, p),
+                (false, false, true) => trace_film::<false, false, true>(tracer, g, lens, res, s, pass, p),
+                (false, false, false) => trace_film::<false, false, false>(tracer, g, lens, res, s, pass, p),
             }
         };
         match adaptive::pilot_spp(settings.spp).filter(|_| settings.adaptive) {
@@ -181,7 +184,7 @@ enum Ends<'a> {
 
 /// Traces one pass over every pixel; returns the accumulators in row-major order and the ray
 /// count.
-fn trace_film<const AOV: bool, const ALPHA: bool>(
+fn trace_film<const AOV: bool, const ALPHA: bool, const LAMBERT: bool>(
     tracer: &PathTracer,
     generator: &dyn RayGenerator,
     uses_lens: bool,
@@ -213,9 +216,9 @@ fn trace_film<const AOV: bool, const ALPHA: bool>(
         .map(|tile| {
             let (accs, rays, samples) = if v3 {
                 // SAFETY: the CPU has every feature `trace_tile_v3` enables (checked above).
-                unsafe { cpu::trace_tile_v3::<AOV, ALPHA>(&job, tile) }
+                unsafe { cpu::trace_tile_v3::<AOV, ALPHA, LAMBERT>(&job, tile) }
             } else {
-                job.trace_tile::<AOV, ALPHA>(tile)
+                job.trace_tile::<AOV, ALPHA, LAMBERT>(tile)
             };
             progress.advance(samples);
             (accs, rays)
@@ -257,7 +260,10 @@ impl TileJob<'_> {
     /// Traces the pass's samples of tile `tile`: its pixels' accumulators in row-major order
     /// within the tile, the rays traced and the samples taken.
     #[inline(always)]
-    fn trace_tile<const AOV: bool, const ALPHA: bool>(&self, tile: u32) -> (Vec<PixelAccumulator>, u64, u64) {
+    fn trace_tile<const AOV: bool, const ALPHA: bool, const LAMBERT: bool>(
+        &self,
+        tile: u32,
+    ) -> (Vec<PixelAccumulator>, u64, u64) {
         let (res, settings, tracer) = (self.res, self.settings, self.tracer);
         let x0 = (tile % self.tiles_x) * TILE;
         let y0 = (tile / self.tiles_x) * TILE;
@@ -291,7 +297,8 @@ impl TileJob<'_> {
                         continue;
                     };
                     let mut first = FirstHit::default();
-                    let path = tracer.radiance::<AOV, ALPHA>(ray, &sampler, Vec2::new(l0, l1), &mut first);
+                    let path =
+                        tracer.radiance::<AOV, ALPHA, LAMBERT>(ray, &sampler, Vec2::new(l0, l1), &mut first);
                     rays += path.rays as u64;
                     acc.add(path.radiance);
                     if AOV {
@@ -339,20 +346,20 @@ mod cpu {
     /// The CPU must have AVX2, FMA, BMI1, BMI2, LZCNT and POPCNT ([`has_x86_64_v3`]).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx,avx2,fma,bmi1,bmi2,lzcnt,popcnt,sse3,ssse3,sse4.1,sse4.2")]
-    pub(super) unsafe fn trace_tile_v3<const AOV: bool, const ALPHA: bool>(
+    pub(super) unsafe fn trace_tile_v3<const AOV: bool, const ALPHA: bool, const LAMBERT: bool>(
         job: &TileJob,
         tile: u32,
     ) -> (Vec<PixelAccumulator>, u64, u64) {
-        job.trace_tile::<AOV, ALPHA>(tile)
+        job.trace_tile::<AOV, ALPHA, LAMBERT>(tile)
     }
 
     /// Never called: [`has_x86_64_v3`] is false off x86-64.
     #[cfg(not(target_arch = "x86_64"))]
-    pub(super) unsafe fn trace_tile_v3<const AOV: bool, const ALPHA: bool>(
+    pub(super) unsafe fn trace_tile_v3<const AOV: bool, const ALPHA: bool, const LAMBERT: bool>(
         job: &TileJob,
         tile: u32,
     ) -> (Vec<PixelAccumulator>, u64, u64) {
-        job.trace_tile::<AOV, ALPHA>(tile)
+        job.trace_tile::<AOV, ALPHA, LAMBERT>(tile)
     }
 }
 
@@ -397,6 +404,75 @@ mod tests {
         quad(&mut scene, Vec3::new(0.3, 0.2, -0.5), Vec3::X, Vec3::Y, 3);
         quad(&mut scene, Vec3::new(-1.0, 0.1, -1.0), Vec3::new(0.8, 0.0, 0.5), Vec3::Y, 4);
         scene
+    }
+
+    /// The Lambert-only path gives the same bits as the general one (image, variance, AOVs,
+    /// ray counts, with roulette and adaptive sampling) on a scene of diffuse surfaces, one
+    /// emitter and a constant environment; it is taken only where every surface is an
+    /// untextured, flat-shaded Lambertian.
+    #[test]
+    fn lambert_path_is_the_general_path_bit_for_bit() {
+        let mut scene = scene(false);
+        for m in &mut scene.materials[2..] {
+            *m = Material::diffuse(&m.name, m.base_color);
+        }
+        let camera = CameraDesc::look_at(
+            "c",
+            Vec3::new(0.5, 1.2, 4.0),
+            Vec3::new(0.0, 0.5, 0.0),
+            Vec3::Y,
+            Projection::Perspective { fov_y: 50f32.to_radians() },
+        )
+        .unwrap()
+        .build(UVec2::new(40, 32))
+        .unwrap();
+        let config = IntegratorConfig::DEFAULT.with_rr_depth(2);
+        let lambert = PathTracer::new(&scene, config).unwrap();
+        assert!(lambert.lambert_only());
+        let general = PathTracer::new(&scene, config).unwrap().without_lambert_path();
+        assert!(!general.lambert_only());
+        for settings in [
+            RenderSettings { aovs: true, ..RenderSettings::still(16) },
+            RenderSettings { adaptive: true, seed: 3, ..RenderSettings::still(8) },
+        ] {
+            let run = |tracer: &PathTracer| {
+                render(tracer, camera.as_ref(), &mut LensChain::new(), &settings, &NoProgress).unwrap()
+            };
+            let (a, b) = (run(&lambert), run(&general));
+            assert!(a.images.image.pixels.iter().any(|p| p.max_element() > 0.05), "the scene is lit");
+            assert_eq!(a.stats.rays, b.stats.rays);
+            let bits = |i: &crate::image::RgbImage| -> Vec<u32> {
+                i.pixels.iter().flat_map(|p| p.to_array()).map(f32::to_bits).collect()
+            };
+            assert!(bits(&a.images.image) == bits(&b.images.image), "image bits differ");
+            assert!(bits(&a.images.variance) == bits(&b.images.variance), "variance bits differ");
+            assert!(
+                bits(&a.images.albedo) == bits(&b.images.albedo)
+                    && bits(&a.images.normal) == bits(&b.images.normal)
+            );
+            assert!(a.images.depth == b.images.depth && a.images.samples == b.images.samples);
+        }
+        // What the path leaves out, any of which takes a scene off it.
+        assert!(!PathTracer::new(&self::scene(false), config).unwrap().lambert_only(), "metal and glass");
+        let mut with_normals = scene.clone();
+        let positions = [Vec3::ZERO, Vec3::X, Vec3::Y];
+        let normals = [Vec3::Z; 3];
+        let part = MeshPart {
+            positions: &positions,
+            normals: Some(&normals),
+            uvs: None,
+            indices: None,
+            material: 0,
+        };
+        with_normals.mesh.push(part).unwrap();
+        assert!(!PathTracer::new(&with_normals, config).unwrap().lambert_only(), "vertex normals");
+        let mut textured = scene.clone();
+        textured.textures.push(crate::texture::Texture::new("t", 1, 1, vec![glam::Vec4::ONE]));
+        textured.materials[0].textures.base_color = Some(crate::texture::TextureRef::new(0));
+        assert!(!PathTracer::new(&textured, config).unwrap().lambert_only(), "a texture");
+        let mut masked = scene;
+        masked.materials[0].alpha_mode = AlphaMode::Mask { cutoff: 0.5 };
+        assert!(!PathTracer::new(&masked, config).unwrap().lambert_only(), "an alpha test");
     }
 
     /// The x86-64-v3 build of the tile loop gives the same bits as the baseline one (AOVs and

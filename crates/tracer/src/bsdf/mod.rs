@@ -57,6 +57,12 @@ pub struct BsdfParams {
 }
 
 impl BsdfParams {
+    /// True when these parameters leave the Lambert lobe alone: no metallic and no specular
+    /// weight, so [`Bsdf::lambert`] builds the same BSDF as [`Bsdf::with_frame`].
+    pub fn is_lambert(&self) -> bool {
+        self.metallic == 0.0 && self.specular == 0.0
+    }
+
     /// The untextured parameters of `material`.
     pub fn of(material: &Material) -> Self {
         Self {
@@ -100,6 +106,17 @@ pub struct Bsdf {
     p_specular: f32,
 }
 
+/// The shading frame and geometric normal turned to face `wo`, and `wo` in that frame (kept
+/// just above the horizon, where a shading normal can put it below).
+#[inline(always)]
+fn facing(shading: Frame, ng: Vec3, wo: Vec3) -> (Frame, Vec3, Vec3) {
+    let ng = if ng.dot(wo) < 0.0 { -ng } else { ng };
+    let frame = if shading.z.dot(ng) < 0.0 { shading.flipped() } else { shading };
+    let mut wo_local = frame.to_local(wo);
+    wo_local.z = wo_local.z.max(1e-6);
+    (frame, ng, wo_local)
+}
+
 #[inline]
 fn schlick(f0: Vec3, cos: f32) -> Vec3 {
     let m = (1.0 - cos).clamp(0.0, 1.0);
@@ -120,13 +137,7 @@ impl Bsdf {
     /// with geometric normal `ng`, seen from world direction `wo`.
     #[inline(always)]
     pub fn with_frame(p: &BsdfParams, shading: Frame, ng: Vec3, wo: Vec3) -> Self {
-        // Face both normals towards wo.
-        let ng = if ng.dot(wo) < 0.0 { -ng } else { ng };
-        let frame = if shading.z.dot(ng) < 0.0 { shading.flipped() } else { shading };
-        let mut wo_local = frame.to_local(wo);
-        // A shading normal can put wo below its horizon; keep it just above for the lobes.
-        wo_local.z = wo_local.z.max(1e-6);
-
+        let (frame, ng, wo_local) = facing(shading, ng, wo);
         let m = p.metallic;
         let base = p.base_color;
         let specular = p.specular;
@@ -167,6 +178,30 @@ impl Bsdf {
             ms_metal,
             ggx,
             p_specular,
+        }
+    }
+
+    /// The Lambert lobe alone, of albedo `base_color`: the same BSDF, bit for bit, as
+    /// [`Bsdf::with_frame`] for parameters with no metallic and no specular weight
+    /// ([`BsdfParams::is_lambert`]), without setting up the lobes that then weigh nothing.
+    #[inline(always)]
+    pub fn lambert(base_color: Vec3, shading: Frame, ng: Vec3, wo: Vec3) -> Self {
+        let (frame, ng, wo_local) = facing(shading, ng, wo);
+        Self {
+            frame,
+            ng,
+            wo: wo_local,
+            // (1 − 0)·base·(1/π), as `with_frame` has it: 1·base is base exactly.
+            diffuse: base_color * FRAC_1_PI,
+            dielectric_weight: 0.0,
+            specular: 0.0,
+            f0_dielectric: Vec3::ZERO,
+            metal_weight: 0.0,
+            f0_metal: base_color,
+            ms_dielectric: Vec3::ONE,
+            ms_metal: Vec3::ONE,
+            ggx: Ggx::from_roughness(1.0),
+            p_specular: 0.0,
         }
     }
 
@@ -368,5 +403,51 @@ mod tests {
                 assert!(s.f.is_finite() && s.pdf.is_finite());
             }
         }
+    }
+    /// `Bsdf::lambert` is `Bsdf::with_frame` for Lambert parameters, bit for bit: the same
+    /// values, densities and samples for directions all round, with shading normals tilted
+    /// against the geometric one and seen from either side. Parameters with a metallic or
+    /// specular weight are not Lambert.
+    #[test]
+    fn lambert_is_with_frame_bit_for_bit() {
+        let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+        let mut checked = 0;
+        for (k, base) in [0.0f32, 0.05, 0.725, 1.0].into_iter().enumerate() {
+            let mut m = material(base, 0.0, 0.4 + 0.1 * k as f32, 0.0);
+            m.base_color.y *= 0.5;
+            let params = BsdfParams::of(&m);
+            assert!(params.is_lambert());
+            for i in 0..64 {
+                let ng = sample_uniform_sphere(Vec2::new(halton(i, 2), halton(i, 3)));
+                let ns =
+                    (ng + 0.4 * sample_uniform_sphere(Vec2::new(halton(i, 5), halton(i, 7)))).normalize();
+                let wo = sample_uniform_sphere(Vec2::new(halton(i, 11), halton(i, 13)));
+                let frame = Frame::from_z(ns);
+                let general = Bsdf::with_frame(&params, frame, ng, wo);
+                let lambert = Bsdf::lambert(params.base_color, frame, ng, wo);
+                assert_eq!(general.is_black(), lambert.is_black());
+                assert!(lambert.is_diffuse() && !lambert.has_lobe_choice());
+                for j in 0..32 {
+                    let u = Vec2::new(halton(64 * i + j, 2), halton(64 * i + j, 3));
+                    let wi = sample_uniform_sphere(u);
+                    let ((fa, pa), (fb, pb)) = (general.eval(wi), lambert.eval(wi));
+                    assert!(bits(fa) == bits(fb) && pa.to_bits() == pb.to_bits(), "eval {wi}");
+                    match (general.sample(u, 0.5), lambert.sample(u, 0.5)) {
+                        (Some(a), Some(b)) => {
+                            assert!(bits(a.wi) == bits(b.wi) && bits(a.f) == bits(b.f));
+                            assert!(a.pdf.to_bits() == b.pdf.to_bits() && a.cos.to_bits() == b.cos.to_bits());
+                            checked += 1;
+                        }
+                        (None, None) => {}
+                        _ => panic!("one samples, the other does not"),
+                    }
+                }
+            }
+        }
+        assert!(checked > 4000, "{checked} samples compared");
+        assert!(!BsdfParams::of(&material(0.5, 0.2, 0.5, 0.0)).is_lambert(), "metallic");
+        let mut specular = material(0.5, 0.0, 0.5, 1.0);
+        specular.specular_color = Vec3::ONE;
+        assert!(!BsdfParams::of(&specular).is_lambert(), "specular");
     }
 }
