@@ -242,7 +242,10 @@ impl Bsdf {
         self.eval_local(wi)
     }
 
-    #[inline]
+    // Always inlined: on the Lambert-only path LLVM then sees p_specular = 0 from
+    // `Bsdf::lambert` and drops the specular code and the BSDF's trip through memory (Cornell
+    // box: 828 → 806 M instructions per 2 spp, ≈ 2 % faster; the café unchanged).
+    #[inline(always)]
     fn eval_local(&self, wi: Vec3) -> (Vec3, f32) {
         if self.p_specular == 0.0 {
             return (self.diffuse, lambert::pdf(wi));
