@@ -508,7 +508,7 @@ mod tests {
             let ray = Ray::new(rng.vec() * 6.0, rng.vec().normalize(), 0.0);
             let q = QueryRay::new(&ray);
             overflows +=
-                (bvh.walk::<1>(&q, f32::INFINITY, &mut |_, _| Step::Miss).0 == Walk::Overflow) as u32;
+                (bvh.walk::<1, true>(&q, f32::INFINITY, &mut |_, _| Step::Miss).0 == Walk::Overflow) as u32;
             let full = bvh.intersect(&ray, f32::INFINITY);
             assert_eq!(bvh.closest::<1>(&ray, f32::INFINITY, |_, _| true), full);
             let t = full.map_or(f32::INFINITY, |h| h.t * 0.999);
