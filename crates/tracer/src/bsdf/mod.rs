@@ -230,7 +230,9 @@ impl Bsdf {
     }
 
     /// f(wo, wi) and the density of sampling `wi` (world, unit) for this wo.
-    #[inline]
+    // Always inlined, as `eval_local`: out of line, the BSDF went through memory for the call
+    // (Cornell box: 803 → 775 M instructions per 2 spp, ≈ 2.5 % faster; the café unchanged).
+    #[inline(always)]
     pub fn eval(&self, wi: Vec3) -> (Vec3, f32) {
         if wi.dot(self.ng) <= 0.0 {
             return (Vec3::ZERO, 0.0);
