@@ -18,6 +18,8 @@ use glam::{UVec2, Vec2};
 use rayon::prelude::*;
 use std::time::Instant;
 
+mod cpu;
+
 /// Tile edge in pixels: big enough to amortise scheduling, small enough to balance 2+ cores.
 const TILE: u32 = 16;
 
@@ -210,16 +212,11 @@ fn trace_film<const AOV: bool, const ALPHA: bool, const LAMBERT: bool>(
         shutter_length,
         needs_lens_time,
     };
-    let v3 = cpu::has_x86_64_v3();
+    let level = cpu::level();
     let tiles: Vec<(Vec<PixelAccumulator>, u64)> = (0..tiles_x * tiles_y)
         .into_par_iter()
         .map(|tile| {
-            let (accs, rays, samples) = if v3 {
-                // SAFETY: the CPU has every feature `trace_tile_v3` enables (checked above).
-                unsafe { cpu::trace_tile_v3::<AOV, ALPHA, LAMBERT>(&job, tile) }
-            } else {
-                job.trace_tile::<AOV, ALPHA, LAMBERT>(tile)
-            };
+            let (accs, rays, samples) = cpu::trace_tile::<AOV, ALPHA, LAMBERT>(level, &job, tile);
             progress.advance(samples);
             (accs, rays)
         })
@@ -312,57 +309,6 @@ impl TileJob<'_> {
     }
 }
 
-/// The same tracing code compiled a second time for x86-64-v3 CPUs (AVX2, FMA, BMI1/2, LZCNT),
-/// chosen once per render. The image bits do not depend on the choice: Rust never contracts
-/// a·b + c into an FMA by itself, and no arithmetic is reordered (a test compares both paths).
-mod cpu {
-    use super::{PixelAccumulator, TileJob};
-
-    /// True when this CPU runs [`trace_tile_v3`] (and it has not been switched off for a test).
-    pub(super) fn has_x86_64_v3() -> bool {
-        #[cfg(target_arch = "x86_64")]
-        {
-            !FORCE_BASELINE.load(std::sync::atomic::Ordering::Relaxed)
-                && std::arch::is_x86_feature_detected!("avx2")
-                && std::arch::is_x86_feature_detected!("fma")
-                && std::arch::is_x86_feature_detected!("bmi1")
-                && std::arch::is_x86_feature_detected!("bmi2")
-                && std::arch::is_x86_feature_detected!("lzcnt")
-                && std::arch::is_x86_feature_detected!("popcnt")
-        }
-        #[cfg(not(target_arch = "x86_64"))]
-        {
-            false
-        }
-    }
-
-    /// Makes [`has_x86_64_v3`] answer false (tests compare the two code paths).
-    pub(super) static FORCE_BASELINE: std::sync::atomic::AtomicBool =
-        std::sync::atomic::AtomicBool::new(false);
-
-    /// [`TileJob::trace_tile`] compiled for x86-64-v3.
-    ///
-    /// # Safety
-    /// The CPU must have AVX2, FMA, BMI1, BMI2, LZCNT and POPCNT ([`has_x86_64_v3`]).
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx,avx2,fma,bmi1,bmi2,lzcnt,popcnt,sse3,ssse3,sse4.1,sse4.2")]
-    pub(super) unsafe fn trace_tile_v3<const AOV: bool, const ALPHA: bool, const LAMBERT: bool>(
-        job: &TileJob,
-        tile: u32,
-    ) -> (Vec<PixelAccumulator>, u64, u64) {
-        job.trace_tile::<AOV, ALPHA, LAMBERT>(tile)
-    }
-
-    /// Never called: [`has_x86_64_v3`] is false off x86-64.
-    #[cfg(not(target_arch = "x86_64"))]
-    pub(super) unsafe fn trace_tile_v3<const AOV: bool, const ALPHA: bool, const LAMBERT: bool>(
-        job: &TileJob,
-        tile: u32,
-    ) -> (Vec<PixelAccumulator>, u64, u64) {
-        job.trace_tile::<AOV, ALPHA, LAMBERT>(tile)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -406,16 +352,23 @@ mod tests {
         scene
     }
 
+    /// [`scene`] with every surface an untextured, opaque Lambertian (the metal, glass and
+    /// veil made diffuse): a scene for the Lambert-only path.
+    fn lambert_scene() -> Scene {
+        let mut scene = scene(false);
+        for m in &mut scene.materials[2..] {
+            *m = Material::diffuse(&m.name, m.base_color);
+        }
+        scene
+    }
+
     /// The Lambert-only path gives the same bits as the general one (image, variance, AOVs,
     /// ray counts, with roulette and adaptive sampling) on a scene of diffuse surfaces, one
     /// emitter and a constant environment; it is taken only where every surface is an
     /// untextured, flat-shaded Lambertian.
     #[test]
     fn lambert_path_is_the_general_path_bit_for_bit() {
-        let mut scene = scene(false);
-        for m in &mut scene.materials[2..] {
-            *m = Material::diffuse(&m.name, m.base_color);
-        }
+        let scene = lambert_scene();
         let camera = CameraDesc::look_at(
             "c",
             Vec3::new(0.5, 1.2, 4.0),
@@ -475,13 +428,15 @@ mod tests {
         assert!(!PathTracer::new(&masked, config).unwrap().lambert_only(), "an alpha test");
     }
 
-    /// The x86-64-v3 build of the tile loop gives the same bits as the baseline one (AOVs and
-    /// alpha tests on and off, roulette on). On a CPU without x86-64-v3 both runs take the
-    /// baseline path and the test says so.
+    /// Every level of the tile loop this CPU runs (x86-64-v3 and -v4 builds) gives the same
+    /// bits as the baseline one: AOVs and alpha tests on and off, roulette on, and the
+    /// Lambert-only path. On a CPU without them only the baseline runs, and the test says so.
     #[test]
     fn cpu_dispatch_does_not_change_a_single_bit() {
-        if !cpu::has_x86_64_v3() {
-            eprintln!("this CPU has no x86-64-v3: only the baseline path runs");
+        let levels: Vec<cpu::Level> =
+            [cpu::Level::V3, cpu::Level::V4].into_iter().filter(|&l| l <= cpu::level()).collect();
+        if levels.len() < 2 {
+            eprintln!("this CPU runs only the levels {levels:?} beside the baseline");
         }
         let camera = CameraDesc::look_at(
             "c",
@@ -493,17 +448,17 @@ mod tests {
         .unwrap()
         .build(UVec2::new(40, 32))
         .unwrap();
-        for (alpha, aovs) in [(false, false), (true, true)] {
-            let tracer = PathTracer::new(&scene(alpha), IntegratorConfig::DEFAULT.with_rr_depth(2)).unwrap();
-            assert_eq!(tracer.has_alpha(), alpha);
+        for (alpha, aovs, lambert) in [(false, false, false), (true, true, false), (false, true, true)] {
+            let scene = if lambert { lambert_scene() } else { scene(alpha) };
+            let tracer = PathTracer::new(&scene, IntegratorConfig::DEFAULT.with_rr_depth(2)).unwrap();
+            assert_eq!((tracer.has_alpha(), tracer.lambert_only()), (alpha, lambert));
             let settings = RenderSettings { aovs, ..RenderSettings::still(16) };
-            let run = |baseline: bool| {
-                cpu::FORCE_BASELINE.store(baseline, Ordering::Relaxed);
+            let run = |cap: cpu::Level| {
+                cpu::CAP.store(cap as u8, Ordering::Relaxed);
                 let r = render(&tracer, camera.as_ref(), &mut LensChain::new(), &settings, &NoProgress);
-                cpu::FORCE_BASELINE.store(false, Ordering::Relaxed);
+                cpu::CAP.store(cpu::Level::V4 as u8, Ordering::Relaxed);
                 r.unwrap()
             };
-            let (v3, baseline) = (run(false), run(true));
             let bits = |r: &Rendered| {
                 let i = &r.images;
                 let mut all: Vec<u32> =
@@ -511,10 +466,15 @@ mod tests {
                 all.extend(i.variance.pixels.iter().flat_map(|p| p.to_array()).map(f32::to_bits));
                 all
             };
-            assert!(v3.images.image.pixels.iter().any(|p| p.max_element() > 0.05), "the scene is lit");
-            assert_eq!(v3.stats.rays, baseline.stats.rays, "alpha {alpha}: ray counts differ");
-            assert!(bits(&v3) == bits(&baseline), "alpha {alpha}: image or variance bits differ");
-            assert!(v3.images.albedo == baseline.images.albedo && v3.images.depth == baseline.images.depth);
+            let baseline = run(cpu::Level::Baseline);
+            assert!(baseline.images.image.pixels.iter().any(|p| p.max_element() > 0.05), "the scene is lit");
+            for &level in &levels {
+                let r = run(level);
+                let what = format!("{level:?}, alpha {alpha}, Lambert {lambert}");
+                assert_eq!(r.stats.rays, baseline.stats.rays, "{what}: ray counts differ");
+                assert!(bits(&r) == bits(&baseline), "{what}: image or variance bits differ");
+                assert!(r.images.albedo == baseline.images.albedo && r.images.depth == baseline.images.depth);
+            }
         }
     }
 }
