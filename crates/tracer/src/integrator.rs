@@ -107,8 +107,8 @@ pub struct PathTracer {
     /// which case traversal runs without any test callback.
     alpha_tested: Option<Vec<bool>>,
     /// Every material is an untextured, opaque Lambertian (no metallic, specular or
-    /// transmission weight) and no triangle has vertex normals, so renders may take the
-    /// Lambert-only path (see [`PathTracer::lambert_only`]).
+    /// transmission weight), no triangle has vertex normals and every light is an emissive
+    /// triangle, so renders may take the Lambert-only path (see [`PathTracer::lambert_only`]).
     lambert_only: bool,
     environment: Vec3,
     /// Every emitter a BSDF-sampled ray could reach is also reached by light sampling (no
@@ -145,14 +145,15 @@ impl PathTracer {
             scene.materials.iter().any(Material::has_alpha).then(|| {
                 mesh.material_ids.iter().map(|&m| scene.materials[m as usize].has_alpha()).collect()
             });
+        let lights = LightSampler::new(scene);
         let lambert_only = attributes.normals.is_none()
+            && lights.triangles_only()
             && scene.materials.iter().all(|m| {
                 m.textures.is_empty()
                     && !m.has_alpha()
                     && m.transmission == 0.0
                     && BsdfParams::of(m).is_lambert()
             });
-        let lights = LightSampler::new(scene);
         let lights_cover_emission = lights.environment().is_some() || scene.environment.color == Vec3::ZERO;
         let geometric_frames = (0..mesh.triangle_count())
             .map(|t| {
@@ -191,11 +192,12 @@ impl PathTracer {
         self.alpha_tested.is_some()
     }
 
-    /// True when every surface is an untextured, opaque, flat-shaded Lambertian (the Cornell
-    /// box's class of scene). Renders then take [`PathTracer::radiance`] with `LAMBERT`, which
-    /// leaves out what such scenes lack (vertex normals, textures, glass, the specular lobe's
-    /// set-up) and gives the same bits as the general path (about 3 % sooner on the Cornell
-    /// box, 2 threads: `docs/performance.md`).
+    /// True when every surface is an untextured, opaque, flat-shaded Lambertian lit by
+    /// emissive triangles alone (the Cornell box's class of scene). Renders then take
+    /// [`PathTracer::radiance`] with `LAMBERT`, which leaves out what such scenes lack (vertex
+    /// normals, textures, glass, the specular lobe's set-up, other kinds of light) and gives
+    /// the same bits as the general path (about 4–5 % sooner on the Cornell box, 2 threads:
+    /// `docs/performance.md`).
     pub fn lambert_only(&self) -> bool {
         self.lambert_only
     }
@@ -354,7 +356,7 @@ impl PathTracer {
     /// `ALPHA`, runs alpha tests during traversal (only scenes with alpha-tested materials
     /// need it: see [`PathTracer::has_alpha`]); with `LAMBERT`, takes the Lambert-only path
     /// (only for scenes where [`PathTracer::lambert_only`] holds: it reads no texture, vertex
-    /// normal, transmission or specular parameter). `u_light` is the first vertex's light sample
+    /// normal, transmission or specular parameter, and samples triangle lights alone). `u_light` is the first vertex's light sample
     /// (it shares the camera's set, see `crate::sampler::sets`).
     #[inline(always)]
     pub fn radiance<const AOV: bool, const ALPHA: bool, const LAMBERT: bool>(
@@ -501,7 +503,12 @@ impl PathTracer {
                 };
 
                 // Next-event estimation.
-                if let Some(ls) = self.lights.sample(si.p, u_light) {
+                let ls = if LAMBERT {
+                    self.lights.sample_triangles(si.p, u_light)
+                } else {
+                    self.lights.sample(si.p, u_light)
+                };
+                if let Some(ls) = ls {
                     let (f, bsdf_pdf) = bsdf.eval(ls.wi);
                     let mut li = ls.li;
                     if let (false, Some((tri, b))) = (LAMBERT, ls.emitter) {

@@ -132,7 +132,7 @@ pub fn render(
         let trace = |pass: &Pass| {
             // Specialised loops: no AOV bookkeeping without AOVs, no alpha tests without
             // alpha-tested materials, and the Lambert-only path where every surface is an
-            // untextured, flat-shaded Lambertian (never with alpha tests, which it excludes).
+            // untextured, flat-shaded Lambertian lit by triangles (never with alpha tests).
             let (g, s, p) = (&generator, settings, progress);
             match (settings.aovs, tracer.has_alpha(), tracer.lambert_only()) {
                 (true, true, _) => trace_film::<true, true, false>(tracer, g, lens, res, s, pass, p),
@@ -365,7 +365,7 @@ mod tests {
     /// The Lambert-only path gives the same bits as the general one (image, variance, AOVs,
     /// ray counts, with roulette and adaptive sampling) on a scene of diffuse surfaces, one
     /// emitter and a constant environment; it is taken only where every surface is an
-    /// untextured, flat-shaded Lambertian.
+    /// untextured, flat-shaded Lambertian lit by emissive triangles.
     #[test]
     fn lambert_path_is_the_general_path_bit_for_bit() {
         let scene = lambert_scene();
@@ -423,9 +423,12 @@ mod tests {
         textured.textures.push(crate::texture::Texture::new("t", 1, 1, vec![glam::Vec4::ONE]));
         textured.materials[0].textures.base_color = Some(crate::texture::TextureRef::new(0));
         assert!(!PathTracer::new(&textured, config).unwrap().lambert_only(), "a texture");
-        let mut masked = scene;
+        let mut masked = scene.clone();
         masked.materials[0].alpha_mode = AlphaMode::Mask { cutoff: 0.5 };
         assert!(!PathTracer::new(&masked, config).unwrap().lambert_only(), "an alpha test");
+        let mut lamp = scene;
+        lamp.lights.push(crate::scene::PunctualLight::Point { position: Vec3::Y, intensity: Vec3::ONE });
+        assert!(!PathTracer::new(&lamp, config).unwrap().lambert_only(), "a point light");
     }
 
     /// Every level of the tile loop this CPU runs (x86-64-v3 and -v4 builds) gives the same

@@ -181,23 +181,7 @@ impl LightSampler {
             })
         };
         match &self.lights[i] {
-            Light::Triangle(tri) => {
-                let s = tri.sample(u);
-                let to_light = s.p - p_ref;
-                let d2 = to_light.length_squared();
-                if d2 == 0.0 {
-                    return None;
-                }
-                let d = d2.sqrt();
-                let wi = to_light / d;
-                let li = tri.emitted(-wi);
-                let pdf = tri.pdf_solid_angle(d, wi) * p_select;
-                if li == Vec3::ZERO || !(pdf > 0.0) || !pdf.is_finite() {
-                    return None;
-                }
-                let target = ShadowTarget::Point { p: s.p, p_error: s.p_error, n: s.n };
-                Some(LightSample { wi, li, pdf, is_delta: false, target, emitter: Some((tri.triangle, s.b)) })
-            }
+            Light::Triangle(tri) => triangle_sample(tri, p_select, p_ref, u),
             Light::Point(pl) => {
                 let (wi, li, target) = point(pl.position, pl.intensity)?;
                 Some(LightSample { wi, li, pdf: p_select, is_delta: true, target, emitter: None })
@@ -237,6 +221,27 @@ impl LightSampler {
         }
     }
 
+    /// [`LightSampler::sample`] for a sampler whose every light is an emissive triangle
+    /// ([`LightSampler::triangles_only`]): the same sample, bit for bit, without the dispatch
+    /// on the kind of light.
+    #[inline(always)]
+    pub fn sample_triangles(&self, p_ref: Vec3, u: Vec2) -> Option<LightSample> {
+        let dist = self.distribution.as_ref()?;
+        let (i, p_select, ux) = dist.sample(u.x);
+        match &self.lights[i] {
+            Light::Triangle(tri) => triangle_sample(tri, p_select, p_ref, Vec2::new(ux, u.y)),
+            _ => {
+                debug_assert!(false, "sample_triangles on a sampler with other lights");
+                None
+            }
+        }
+    }
+
+    /// True when every light is an emissive triangle (no punctual lights, no environment).
+    pub fn triangles_only(&self) -> bool {
+        self.lights.iter().all(|l| matches!(l, Light::Triangle(_)))
+    }
+
     /// For MIS: the density with which [`LightSampler::sample`] would have produced the point
     /// of mesh triangle `triangle` seen `dist` away along `wi` (0 if it is not a light).
     #[inline]
@@ -261,4 +266,24 @@ impl LightSampler {
             _ => 0.0,
         }
     }
+}
+
+/// A sample of emissive triangle `tri`, chosen with probability `p_select`, seen from `p_ref`.
+#[inline(always)]
+fn triangle_sample(tri: &EmissiveTriangle, p_select: f32, p_ref: Vec3, u: Vec2) -> Option<LightSample> {
+    let s = tri.sample(u);
+    let to_light = s.p - p_ref;
+    let d2 = to_light.length_squared();
+    if d2 == 0.0 {
+        return None;
+    }
+    let d = d2.sqrt();
+    let wi = to_light / d;
+    let li = tri.emitted(-wi);
+    let pdf = tri.pdf_solid_angle(d, wi) * p_select;
+    if li == Vec3::ZERO || !(pdf > 0.0) || !pdf.is_finite() {
+        return None;
+    }
+    let target = ShadowTarget::Point { p: s.p, p_error: s.p_error, n: s.n };
+    Some(LightSample { wi, li, pdf, is_delta: false, target, emitter: Some((tri.triangle, s.b)) })
 }
