@@ -27,15 +27,12 @@ pub(super) static CAP: AtomicU8 = AtomicU8::new(Level::V4 as u8);
 
 /// The best level this CPU runs, at most [`CAP`].
 pub(super) fn level() -> Level {
-    let cap = CAP.load(Ordering::Relaxed);
-    let best = detected();
-    if (best as u8) <= cap {
-        best
-    } else if cap >= Level::V3 as u8 {
-        Level::V3
-    } else {
-        Level::Baseline
-    }
+    let cap = match CAP.load(Ordering::Relaxed) {
+        0 => Level::Baseline,
+        1 => Level::V3,
+        _ => Level::V4,
+    };
+    detected().min(cap)
 }
 
 /// The best level this CPU runs.
