@@ -16,7 +16,7 @@
 
 use crate::bsdf::dielectric;
 use crate::bsdf::{Bsdf, BsdfParams};
-use crate::bvh::{Bvh, Hit};
+use crate::bvh::{Bvh, Hit, Leaving};
 use crate::error::{Result, TracerError};
 use crate::interaction::SurfaceInteraction;
 use crate::light::{LightSampler, ShadowTarget};
@@ -333,22 +333,22 @@ impl PathTracer {
     }
 
     #[inline]
-    fn closest_hit<const ALPHA: bool>(&self, ray: &Ray) -> Option<Hit> {
+    fn closest_hit<const ALPHA: bool>(&self, ray: &Ray, leaving: Leaving) -> Option<Hit> {
         match (ALPHA, &self.alpha_tested) {
-            (true, Some(tested)) => {
-                self.bvh.intersect_with(ray, f32::INFINITY, |t, b| self.alpha_accepts(tested, t, b, ray))
-            }
-            _ => self.bvh.intersect(ray, f32::INFINITY),
+            (true, Some(tested)) => self
+                .bvh
+                .intersect_from(ray, f32::INFINITY, leaving, |t, b| self.alpha_accepts(tested, t, b, ray)),
+            _ => self.bvh.intersect_from(ray, f32::INFINITY, leaving, |_, _| true),
         }
     }
 
     #[inline]
-    fn occluded<const ALPHA: bool>(&self, ray: &Ray, t_max: f32) -> bool {
+    fn occluded<const ALPHA: bool>(&self, ray: &Ray, t_max: f32, leaving: Leaving) -> bool {
         match (ALPHA, &self.alpha_tested) {
             (true, Some(tested)) => {
-                self.bvh.occluded_with(ray, t_max, |t, b| self.alpha_accepts(tested, t, b, ray))
+                self.bvh.occluded_from(ray, t_max, leaving, |t, b| self.alpha_accepts(tested, t, b, ray))
             }
-            _ => self.bvh.occluded(ray, t_max),
+            _ => self.bvh.occluded_from(ray, t_max, leaving, |_, _| true),
         }
     }
 
@@ -376,9 +376,11 @@ impl PathTracer {
         let mut specular_bounce = false;
         let max_depth = self.config.max_depth;
         let mut depth = 0u32;
+        // The triangle the current ray was spawned from (none for the eye ray).
+        let mut leaving = Leaving::NOTHING;
         loop {
             rays += 1;
-            let Some(hit) = self.closest_hit::<ALPHA>(&ray) else {
+            let Some(hit) = self.closest_hit::<ALPHA>(&ray, leaving) else {
                 let env = self.lights.environment();
                 let le = env.map_or(self.environment, |e| e.radiance(ray.direction));
                 if le != Vec3::ZERO {
@@ -395,6 +397,8 @@ impl PathTracer {
                 break;
             };
             debug_assert!(!LAMBERT || self.lambert_only);
+            // Every ray that goes on from here (shadow or continuation) leaves this triangle.
+            leaving = Leaving::slot(hit.slot);
             let si = self.surface::<LAMBERT>(&hit);
             let material = &self.materials[si.material as usize];
             let sp = self.shade::<LAMBERT>(material, &si, hit.barycentrics);
@@ -524,7 +528,7 @@ impl PathTracer {
                         };
                         if let Some((shadow, t_max)) = shadow {
                             rays += 1;
-                            if !self.occluded::<ALPHA>(&shadow, t_max) {
+                            if !self.occluded::<ALPHA>(&shadow, t_max, leaving) {
                                 let cos = ls.wi.dot(bsdf.shading_normal()).abs();
                                 let w = if ls.is_delta || light_only {
                                     1.0
