@@ -376,7 +376,8 @@ impl PathTracer {
         let mut specular_bounce = false;
         let max_depth = self.config.max_depth;
         let mut depth = 0u32;
-        // The triangle the current ray was spawned from (none for the eye ray).
+        // The triangles the current ray cannot hit: the one it was spawned from, and its
+        // leaf-mates behind it (none for the eye ray).
         let mut leaving = Leaving::NOTHING;
         loop {
             rays += 1;
@@ -397,8 +398,6 @@ impl PathTracer {
                 break;
             };
             debug_assert!(!LAMBERT || self.lambert_only);
-            // Every ray that goes on from here (shadow or continuation) leaves this triangle.
-            leaving = Leaving::slot(hit.slot);
             let si = self.surface::<LAMBERT>(&hit);
             let material = &self.materials[si.material as usize];
             let sp = self.shade::<LAMBERT>(material, &si, hit.barycentrics);
@@ -461,6 +460,7 @@ impl PathTracer {
                 let [_, _, l0, l1] = sampler.get(sets::vertex(depth));
                 u_light = Vec2::new(l0, l1);
                 ray = si.spawn_ray(wi, ray.time);
+                leaving = self.bvh.leaving(hit.slot, ray.direction);
             } else {
                 let bsdf = if LAMBERT {
                     Bsdf::lambert(sp.base_color, si.shading, si.n_geom, wo)
@@ -528,7 +528,11 @@ impl PathTracer {
                         };
                         if let Some((shadow, t_max)) = shadow {
                             rays += 1;
-                            if !self.occluded::<ALPHA>(&shadow, t_max, leaving) {
+                            if !self.occluded::<ALPHA>(
+                                &shadow,
+                                t_max,
+                                self.bvh.leaving(hit.slot, shadow.direction),
+                            ) {
                                 let cos = ls.wi.dot(bsdf.shading_normal()).abs();
                                 let w = if ls.is_delta || light_only {
                                     1.0
@@ -549,6 +553,7 @@ impl PathTracer {
                 prev_bsdf_pdf = bs.pdf;
                 specular_bounce = false;
                 ray = next_ray;
+                leaving = self.bvh.leaving(hit.slot, ray.direction);
             }
             depth += 1;
 

@@ -13,15 +13,18 @@
 //! - triangles are stored in the order obvhs's leaves reference them (slots);
 //! - the triangle test is our watertight one (`crate::triangle`), in world space on the
 //!   original vertices (obvhs's Möller–Trumbore test is not watertight);
-//! - a ray spawned at a hit skips the triangle it leaves ([`Leaving`]): the spawned origin is
-//!   off that triangle's plane on the ray's side, so the test could only miss.
+//! - a ray spawned at a hit skips the triangle it leaves and the leaf-mates wholly behind it
+//!   (`leaving.rs`): those tests could only miss.
 
+mod leaving;
 mod node;
 
 use crate::ray::Ray;
 use crate::scene::Mesh;
 use crate::triangle::{TriangleHit, WatertightRay};
 use glam::Vec3;
+pub use leaving::Leaving;
+use leaving::SlotSides;
 use node::{NodeRay, WideNode};
 use obvhs::BvhBuildParams;
 use obvhs::aabb::Aabb;
@@ -41,25 +44,6 @@ pub struct Hit {
     pub barycentrics: [f32; 3],
 }
 
-/// The triangle a spawned ray leaves, by its BVH slot ([`Hit::slot`]), which the ray's queries
-/// skip: the ray's origin was pushed off that triangle's plane, to the side the ray goes
-/// (`crate::interaction`), so it cannot meet the (planar) triangle again at t > 0, and the
-/// test would only confirm the miss. On the Cornell box, whose walls' boxes hold the spawned
-/// origins, those tests were a fifth of all triangle tests.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Leaving(u32);
-
-impl Leaving {
-    /// A ray that leaves no surface (an eye ray): every triangle is tested.
-    pub const NOTHING: Self = Self(u32::MAX);
-
-    /// A ray spawned from the triangle in `slot`.
-    #[inline]
-    pub const fn slot(slot: u32) -> Self {
-        Self(slot)
-    }
-}
-
 /// A bounding-volume hierarchy over a mesh's triangles.
 pub struct Bvh {
     /// The tree; node 0 is the root (empty when there are no triangles).
@@ -70,6 +54,8 @@ pub struct Bvh {
     triangle_ids: Vec<u32>,
     /// Triangle index in the mesh → slot.
     slot_of: Vec<u32>,
+    /// Per slot: its plane and the leaf-mates on each side (what rays leaving it skip).
+    sides: Vec<SlotSides>,
 }
 
 /// Everything a query needs about its ray, computed once.
@@ -188,7 +174,19 @@ impl Bvh {
             slot_of[t as usize] = slot as u32;
         }
         let nodes = if triangles.is_empty() { Vec::new() } else { widen(&cwbvh, &triangles) };
-        Self { nodes, triangles, triangle_ids, slot_of }
+        let leaves: Vec<(u32, u32)> = nodes
+            .iter()
+            .flat_map(|n| (0..8).filter(|&c| n.leaves >> c & 1 != 0).map(|c| (n.index[c], n.count[c] as u32)))
+            .collect();
+        let sides = leaving::slot_sides(&leaves, &triangles);
+        Self { nodes, triangles, triangle_ids, slot_of, sides }
+    }
+
+    /// What a ray spawned at a hit on the triangle in `slot`, along `direction`, skips: that
+    /// triangle, and the triangles of its leaf wholly on the other side of its plane.
+    #[inline(always)]
+    pub fn leaving(&self, slot: u32, direction: Vec3) -> Leaving {
+        self.sides[slot as usize].leaving(slot, direction)
     }
 
     /// Number of triangles.
@@ -324,7 +322,7 @@ impl Bvh {
         on_hit: &mut impl FnMut(u32, TriangleHit) -> Step,
     ) -> Walk {
         for (slot, tri) in self.triangles.iter().enumerate() {
-            if slot as u32 == leaving.0 {
+            if leaving.skips(slot as u32) {
                 continue;
             }
             if let Some(h) = q.triangle.intersect(tri, t_max) {
@@ -341,10 +339,9 @@ impl Bvh {
     /// Visits every node whose box the ray enters within (0, t_max), nearest first with
     /// `NEAREST_FIRST` (closest-hit queries, where a near hit culls the far boxes) and in slot
     /// order without (occlusion, where any hit ends the walk: ≈ 1 % faster on the Cornell box),
-    /// tests the triangles of their leaves (but the one the ray is `leaving`) and hands each hit
-    /// to `on_hit(slot, hit)`, whose
-    /// answer may shorten the ray or end the walk. Returns how the walk ended and the final
-    /// t_max.
+    /// tests the triangles of their leaves (but those the ray is `leaving` skips) and hands
+    /// each hit to `on_hit(slot, hit)`, whose answer may shorten the ray or end the walk.
+    /// Returns how the walk ended and the final t_max.
     #[inline(always)]
     fn walk<const N: usize, const NEAREST_FIRST: bool>(
         &self,
@@ -364,7 +361,7 @@ impl Bvh {
                 leaves &= leaves - 1;
                 let first = node.index[c];
                 for slot in first..first + node.count[c] as u32 {
-                    if slot == leaving.0 {
+                    if leaving.skips(slot) {
                         continue;
                     }
                     let Some(h) = q.triangle.intersect(&self.triangles[slot as usize], t_max) else {

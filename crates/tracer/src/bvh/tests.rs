@@ -1,5 +1,5 @@
-//! The BVH against brute force: every scale, stack overflow, skipping the triangle a ray
-//! leaves, obvhs's traps.
+//! The BVH against brute force: every scale, stack overflow, skipping what a spawned ray
+//! cannot hit, obvhs's traps.
 
 use super::*;
 use crate::scene::MeshPart;
@@ -126,36 +126,80 @@ fn axis_parallel_rays_match_brute_force_in_huge_scenes() {
     }
 }
 
-/// Skipping the triangle a spawned ray leaves changes no answer: rays spawned from hits
-/// (origin offset as the integrator does it, directions to both sides) get the same closest
-/// hit and occlusion with and without [`Leaving`], also through the overflow fallback.
-/// And the skip is real: a ray aimed at a triangle it claims to leave does not see it.
+/// Skipping what a spawned ray cannot hit changes no answer. The scene has what the skip
+/// relies on: closed boxes (leaf-mates behind each face), quads folded by 0, ±1e-6 and ±0.3
+/// (mates on either side, or on the plane), and loose triangles. Rays are spawned from hits as
+/// the integrator does it (offset origin), in random directions and grazing ones (cosines
+/// 1e-2 … 0 with the plane), and get the same closest hit and occlusion with and without
+/// [`Bvh::leaving`], also through the overflow fallback, but for spurious hits at the origin.
+/// The skip must engage for many. (With `leaving::TANGENT` at 0, grazing rays skip real hits
+/// and this test fails.)
 #[test]
-fn leaving_skips_only_the_triangle_left() {
+fn leaving_skips_nothing_a_spawned_ray_can_hit() {
     let mut rng = Lcg(11);
-    let tris: Vec<[Vec3; 3]> = (0..300)
-        .map(|_| {
-            let c = rng.vec() * 3.0;
-            [c + rng.vec(), c + rng.vec(), c + rng.vec()]
-        })
-        .collect();
+    let mut tris: Vec<[Vec3; 3]> = Vec::new();
+    for _ in 0..40 {
+        let c = rng.vec() * 3.0;
+        let axis = rng.vec().normalize();
+        let rot = glam::Quat::from_axis_angle(axis, rng.next() * 6.0);
+        let h = Vec3::new(rng.next(), rng.next(), rng.next()) * 0.4 + Vec3::splat(0.05);
+        let corner = |i: u32| {
+            let s = Vec3::new(
+                [-1.0, 1.0][(i & 1) as usize],
+                [-1.0, 1.0][(i >> 1 & 1) as usize],
+                [-1.0, 1.0][(i >> 2) as usize],
+            );
+            c + rot * (s * h)
+        };
+        // The six faces as (corner indices) counter-clockwise seen from outside.
+        for [a, b, cc, d] in
+            [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]]
+        {
+            tris.push([corner(a), corner(b), corner(cc)]);
+            tris.push([corner(a), corner(cc), corner(d)]);
+        }
+    }
+    for fold in [0.0, 1e-6, -1e-6, 0.3, -0.3].repeat(12) {
+        let p0 = rng.vec() * 3.0;
+        let (p1, p2) = (p0 + rng.vec() * 0.6, p0 + rng.vec() * 0.6);
+        let n = (p1 - p0).cross(p2 - p0).normalize();
+        tris.push([p0, p1, p2]);
+        tris.push([p0, p2, p0 + (p2 - p1) + fold * n]);
+    }
+    for _ in 0..60 {
+        let c = rng.vec() * 3.0;
+        tris.push([c + rng.vec() * 0.5, c + rng.vec() * 0.5, c + rng.vec() * 0.5]);
+    }
     let bvh = Bvh::build(&mesh_of(&tris));
-    let mut spawned = 0;
-    for _ in 0..2000 {
-        let ray = Ray::new(rng.vec() * 3.0, rng.vec().normalize(), 0.0);
+    let (mut spawned, mut engaged, mut spurious) = (0, 0, 0);
+    for _ in 0..9000 {
+        let ray = Ray::new(rng.vec() * 4.0, rng.vec().normalize(), 0.0);
         let Some(hit) = bvh.intersect(&ray, f32::INFINITY) else { continue };
         let tri = bvh.triangle(hit.slot);
         let (p, p_error) = crate::triangle::hit_point(tri, hit.barycentrics);
         let [a, b, c] = tri.map(Vec3::from_array);
         let n = (b - a).cross(c - a).normalize();
-        let leaving = Leaving::slot(hit.slot);
-        for _ in 0..8 {
-            let w = rng.vec().normalize();
+        let tangent = n.cross(rng.vec()).normalize();
+        let side = if rng.next() < 0.5 { 1.0 } else { -1.0 };
+        let grazing = [1e-2, 2e-3, 1e-3, 5e-4, 0.0].map(|cos| (tangent + side * cos * n).normalize());
+        let random = [(); 6].map(|_| rng.vec().normalize());
+        for w in grazing.into_iter().chain(random) {
             let next = Ray::new(crate::interaction::offset_ray_origin(p, p_error, n, w), w, 0.0);
+            let leaving = bvh.leaving(hit.slot, w);
+            engaged += (leaving != Leaving::slot(hit.slot)) as u32;
             let all = bvh.intersect(&next, f32::INFINITY);
             assert_ne!(all.map(|h| h.slot), Some(hit.slot), "a spawned ray hit its own triangle");
-            assert_eq!(bvh.intersect_from(&next, f32::INFINITY, leaving, |_, _| true), all);
-            assert_eq!(bvh.closest::<1>(&next, f32::INFINITY, leaving, |_, _| true), all);
+            let skipping = bvh.intersect_from(&next, f32::INFINITY, leaving, |_, _| true);
+            assert_eq!(bvh.closest::<1>(&next, f32::INFINITY, leaving, |_, _| true), skipping);
+            if skipping != all {
+                // The one difference allowed: the full query's hit is a skipped mate right at
+                // the origin, a grazing ray's rounding at their shared edge (the self-hit the
+                // offset exists to prevent), not a surface the ray reaches.
+                let h = all.expect("skipping found a hit the full query did not");
+                assert!(leaving.skips(h.slot) && h.t < 1e-4, "skipped a real hit {h:?} ({skipping:?})");
+                spurious += 1;
+                continue;
+            }
             let t = all.map_or(4.0, |h| h.t * 0.999);
             for t_max in [t, f32::INFINITY] {
                 let blocked = bvh.occluded(&next, t_max);
@@ -165,8 +209,11 @@ fn leaving_skips_only_the_triangle_left() {
             spawned += 1;
         }
     }
-    assert!(spawned > 8000, "only {spawned} spawned rays");
+    assert!(spawned > 15_000, "only {spawned} spawned rays");
+    assert!(spurious <= spawned / 1000, "{spurious} spurious hits");
+    assert!(engaged > 4_000, "the leaf-mate skip engaged for only {engaged} of {spawned} rays");
 
+    // And it is real: a ray aimed at a triangle it claims to leave does not see it.
     let one =
         mesh_of(&[[Vec3::new(-1.0, -1.0, -3.0), Vec3::new(1.0, -1.0, -3.0), Vec3::new(0.0, 1.0, -3.0)]]);
     let bvh = Bvh::build(&one);
