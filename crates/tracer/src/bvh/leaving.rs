@@ -97,7 +97,9 @@ pub(super) fn slot_sides(leaves: &[(u32, u32)], triangles: &[[[f32; 3]; 3]]) -> 
                 behind |= 1 << own;
                 in_front |= 1 << own;
             }
-            for m in (first..first + count).filter(|&m| m != s && m - first < 8 && usable) {
+            // A thin triangle's normal cannot tell sides: it skips only itself.
+            let mates = if usable { first..(first + count).min(first + 8) } else { 0..0 };
+            for m in mates.filter(|&m| m != s) {
                 // orient3d > 0: below the plane, seen so that the corners run counter-clockwise
                 // from above; that is, behind the front face.
                 let orient = triangles[m as usize]

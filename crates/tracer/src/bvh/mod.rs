@@ -38,7 +38,8 @@ pub struct Hit {
     pub t: f32,
     /// Index of the triangle in the scene's mesh.
     pub triangle: u32,
-    /// Slot of the triangle in the BVH's own storage (for [`Bvh::triangle`]).
+    /// Slot of the triangle in the BVH's own storage (for [`Bvh::triangle`] and
+    /// [`Bvh::leaving`]).
     pub slot: u32,
     /// Barycentric weights of the triangle's three corners at the hit.
     pub barycentrics: [f32; 3],
