@@ -67,7 +67,7 @@ impl Sampler {
     /// The four numbers of dimension set `set` (see [`sets`]): a randomised 4-D Sobol point,
     /// independently shuffled and scrambled per pixel and set. Bit for bit
     /// `sobol_burley::sample_4d(index, 0, seed)` (a test checks it), with its Sobol step
-    /// taken from [`SOBOL_BYTES`].
+    /// taken from the module's two-byte table (`SOBOL_BYTES`).
     #[inline]
     pub fn get(&self, set: u32) -> [f32; 4] {
         let seed = hash(self.pixel_seed ^ set.wrapping_mul(0x9e37_79b9));
