@@ -356,8 +356,9 @@ impl PathTracer {
     /// `ALPHA`, runs alpha tests during traversal (only scenes with alpha-tested materials
     /// need it: see [`PathTracer::has_alpha`]); with `LAMBERT`, takes the Lambert-only path
     /// (only for scenes where [`PathTracer::lambert_only`] holds: it reads no texture, vertex
-    /// normal, transmission or specular parameter, and samples triangle lights alone). `u_light` is the first vertex's light sample
-    /// (it shares the camera's set, see `crate::sampler::sets`).
+    /// normal, transmission or specular parameter, and samples triangle lights alone).
+    /// `u_light` is the first vertex's light sample (it shares the camera's set, see
+    /// `crate::sampler::sets`).
     #[inline(always)]
     pub fn radiance<const AOV: bool, const ALPHA: bool, const LAMBERT: bool>(
         &self,
@@ -460,7 +461,6 @@ impl PathTracer {
                 let [_, _, l0, l1] = sampler.get(sets::vertex(depth));
                 u_light = Vec2::new(l0, l1);
                 ray = si.spawn_ray(wi, ray.time);
-                leaving = self.bvh.leaving(hit.slot, ray.direction);
             } else {
                 let bsdf = if LAMBERT {
                     Bsdf::lambert(sp.base_color, si.shading, si.n_geom, wo)
@@ -553,8 +553,9 @@ impl PathTracer {
                 prev_bsdf_pdf = bs.pdf;
                 specular_bounce = false;
                 ray = next_ray;
-                leaving = self.bvh.leaving(hit.slot, ray.direction);
             }
+            // Either branch spawned the next ray here.
+            leaving = self.bvh.leaving(hit.slot, ray.direction);
             depth += 1;
 
             if roulette {

@@ -17,7 +17,7 @@
 //! plane (in cosine) skip the triangle they leave alone. Leaf-mates are the only candidates,
 //! so the test in the walk is a subtraction and a bit test.
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 
 /// Rays whose direction cosine with the plane's normal is within this of zero go to no side
 /// certainly enough: the stored normal is within ~1e-7 rad of the exact one, the integrator's
@@ -86,62 +86,51 @@ impl SlotSides {
 /// The sides of every slot, given the leaves as (first slot, count) and the triangles in slot
 /// order.
 pub(super) fn slot_sides(leaves: &[(u32, u32)], triangles: &[[[f32; 3]; 3]]) -> Vec<SlotSides> {
-    let mut sides = vec![None; triangles.len()];
+    // A slot in no leaf (there is none in a tree obvhs built) would skip only itself.
+    let mut sides: Vec<SlotSides> = (0..triangles.len() as u32)
+        .map(|s| SlotSides { normal: [0.0; 3], leaf_first: s, behind: 1, in_front: 1 })
+        .collect();
     for &(first, count) in leaves {
-        for s in first..first + count {
-            let own = s - first;
+        // Masks hold eight slots; obvhs's leaves hold at most three triangles.
+        let leaf = first..(first + count).min(first + 8);
+        for s in leaf.clone() {
             let tri = &triangles[s as usize];
-            let (normal, usable) = normal_of(tri);
-            let (mut behind, mut in_front) = (0u8, 0u8);
-            if own < 8 {
-                behind |= 1 << own;
-                in_front |= 1 << own;
-            }
+            let own = 1u8 << (s - first);
+            let side = &mut sides[s as usize];
+            *side = SlotSides { normal: [0.0; 3], leaf_first: first, behind: own, in_front: own };
             // A thin triangle's normal cannot tell sides: it skips only itself.
-            let mates = if usable { first..(first + count).min(first + 8) } else { 0..0 };
-            for m in mates.filter(|&m| m != s) {
+            let Some(normal) = normal_of(tri) else { continue };
+            side.normal = normal;
+            for m in leaf.clone().filter(|&m| m != s) {
                 // orient3d > 0: below the plane, seen so that the corners run counter-clockwise
                 // from above; that is, behind the front face.
                 let orient = triangles[m as usize]
                     .map(|v| robust::orient3d(coord(tri[0]), coord(tri[1]), coord(tri[2]), coord(v)));
                 if orient.iter().all(|&o| o >= 0.0) {
-                    behind |= 1 << (m - first);
+                    side.behind |= 1 << (m - first);
                 }
                 if orient.iter().all(|&o| o <= 0.0) {
-                    in_front |= 1 << (m - first);
+                    side.in_front |= 1 << (m - first);
                 }
             }
-            sides[s as usize] = Some(SlotSides { normal, leaf_first: first, behind, in_front });
         }
     }
-    // Every slot belongs to a leaf; one that did not would skip only itself.
     sides
-        .into_iter()
-        .enumerate()
-        .map(|(s, side)| {
-            side.unwrap_or(SlotSides { normal: [0.0; 3], leaf_first: s as u32, behind: 1, in_front: 1 })
-        })
-        .collect()
 }
 
 fn coord(p: [f32; 3]) -> robust::Coord3D<f32> {
     robust::Coord3D { x: p[0], y: p[1], z: p[2] }
 }
 
-/// The unit front normal (f64 arithmetic, rounded once), and whether the triangle is thick
-/// enough ([`THIN`]) to tell sides by it.
-fn normal_of(tri: &[[f32; 3]; 3]) -> ([f32; 3], bool) {
-    let p = tri.map(|v| v.map(f64::from));
-    let e1 = [p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]];
-    let e2 = [p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]];
-    let n = [e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]];
-    let len = |v: [f64; 3]| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-    let (ln, l1, l2) = (len(n), len(e1), len(e2));
-    let usable = ln.is_finite() && ln > 0.0 && ln >= THIN * l1 * l2;
-    if !usable {
-        return ([0.0; 3], false);
-    }
-    (n.map(|x| (x / ln) as f32), true)
+/// The unit front normal (f64 arithmetic, rounded once), if the triangle is thick enough
+/// ([`THIN`]) to tell sides by it.
+fn normal_of(tri: &[[f32; 3]; 3]) -> Option<[f32; 3]> {
+    let [a, b, c] = tri.map(|v| DVec3::from_array(v.map(f64::from)));
+    let (e1, e2) = (b - a, c - a);
+    let n = e1.cross(e2);
+    let len = n.length();
+    (len.is_finite() && len > 0.0 && len >= THIN * e1.length() * e2.length())
+        .then(|| (n / len).as_vec3().to_array())
 }
 
 #[cfg(test)]

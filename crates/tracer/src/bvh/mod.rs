@@ -218,9 +218,9 @@ impl Bvh {
         self.intersect_from(ray, t_max, Leaving::NOTHING, |_, _| true)
     }
 
-    /// The closest hit along `ray` in (0, t_max), not counting the triangle it leaves, that
-    /// `accept(triangle, barycentrics)` lets through (alpha-tested surfaces: a rejected hit
-    /// does not shorten the ray).
+    /// The closest hit along `ray` in (0, t_max), but for the triangles `leaving` skips
+    /// ([`Bvh::leaving`]), that `accept(triangle, barycentrics)` lets through (alpha-tested
+    /// surfaces: a rejected hit does not shorten the ray).
     #[inline]
     pub fn intersect_from(
         &self,
@@ -278,7 +278,7 @@ impl Bvh {
     }
 
     /// True when a hit that `accept(triangle, barycentrics)` lets through blocks `ray` in
-    /// (0, t_max), not counting the triangle the ray leaves.
+    /// (0, t_max), but for the triangles `leaving` skips ([`Bvh::leaving`]).
     #[inline]
     pub fn occluded_from(
         &self,

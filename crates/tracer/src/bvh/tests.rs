@@ -13,6 +13,15 @@ fn mesh_of(tris: &[[Vec3; 3]]) -> Mesh {
     m
 }
 
+/// The closest hit of the ray from `o` along `d` (index, t), testing every triangle.
+fn brute_closest(tris: &[[Vec3; 3]], o: Vec3, d: Vec3) -> Option<(usize, f32)> {
+    let wray = WatertightRay::new(o, d, safe_reciprocal(d));
+    tris.iter()
+        .enumerate()
+        .filter_map(|(i, t)| wray.intersect(&t.map(|p| p.to_array()), f32::INFINITY).map(|h| (i, h.t)))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+}
+
 /// A deterministic little generator for test inputs.
 struct Lcg(u64);
 impl Lcg {
@@ -45,14 +54,7 @@ fn matches_brute_force_at_every_scale() {
             let o = rng.vec() * 6.0 * scale;
             let d = rng.vec().normalize();
             let ray = Ray::new(o, d, 0.0);
-            let wray = WatertightRay::new(o, d, safe_reciprocal(d));
-            let brute = tris
-                .iter()
-                .enumerate()
-                .filter_map(|(i, t)| {
-                    wray.intersect(&t.map(|p| p.to_array()), f32::INFINITY).map(|h| (i, h.t))
-                })
-                .min_by(|a, b| a.1.total_cmp(&b.1));
+            let brute = brute_closest(&tris, o, d);
             let got = bvh.intersect(&ray, f32::INFINITY).map(|h| (h.triangle as usize, h.t));
             assert_eq!(got, brute, "scale {scale}");
             assert_eq!(bvh.occluded(&ray, f32::INFINITY), brute.is_some());
@@ -110,14 +112,7 @@ fn axis_parallel_rays_match_brute_force_in_huge_scenes() {
             let d = [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z][i % 6];
             let o = (rng.vec() * 5.0 - d * 7.0) * scale;
             let ray = Ray::new(o, d, 0.0);
-            let wray = WatertightRay::new(o, d, safe_reciprocal(d));
-            let brute = tris
-                .iter()
-                .enumerate()
-                .filter_map(|(i, t)| {
-                    wray.intersect(&t.map(|p| p.to_array()), f32::INFINITY).map(|h| (i, h.t))
-                })
-                .min_by(|a, b| a.1.total_cmp(&b.1));
+            let brute = brute_closest(&tris, o, d);
             let got = bvh.intersect(&ray, f32::INFINITY).map(|h| (h.triangle as usize, h.t));
             assert_eq!(got, brute, "scale {scale}, ray {ray:?}");
             hits += brute.is_some() as u32;
