@@ -218,18 +218,18 @@ fn spawned_rays_never_rehit_their_own_triangle() {
                         grazing_tested += 1;
                     }
                     tested += 1;
-                    if let Some(again) = tracer.bvh().intersect(&ray, f32::INFINITY) {
-                        if again.triangle == si.triangle {
-                            failures.push(format!(
-                                "triangle {} (aimed at {t}) at {} (error {}), direction {w} (cos {:.1e}): \
+                    if let Some(again) = tracer.bvh().intersect(&ray, f32::INFINITY)
+                        && again.triangle == si.triangle
+                    {
+                        failures.push(format!(
+                            "triangle {} (aimed at {t}) at {} (error {}), direction {w} (cos {:.1e}): \
                                  re-hit at t = {:e}",
-                                si.triangle,
-                                si.p,
-                                si.p_error,
-                                w.dot(si.n_geom),
-                                again.t
-                            ));
-                        }
+                            si.triangle,
+                            si.p,
+                            si.p_error,
+                            w.dot(si.n_geom),
+                            again.t
+                        ));
                     }
                 }
             }

@@ -442,8 +442,8 @@ fn textured_quad_reads_each_texel_at_known_uvs() {
     // Plain: each image quadrant shows its texel; a code of 128 reads 0.2158605 (sRGB decoded).
     let plain = quadrant_colours(&dir, "plain", "", None);
     assert!((plain[0].x - 0.215_860_5).abs() < 1e-6, "sRGB decode of 128: {}", plain[0].x);
-    for q in 0..4 {
-        assert!(close(plain[q], texel(q)), "quadrant {q}: {} vs {}", plain[q], texel(q));
+    for (q, &colour) in plain.iter().enumerate() {
+        assert!(close(colour, texel(q)), "quadrant {q}: {colour} vs {}", texel(q));
     }
 
     // KHR_texture_transform, rotation π/2 and offset (0, 0.5): st = (−v, u + 0.5), wrapped. By

@@ -265,7 +265,7 @@ fn weights_of_63_cameras() {
 /// cameras facing each other, the nearly opposite case slerp must survive).
 fn view(id: u32, w: u32, h: u32) -> RayFile {
     let eye = Vec3::new(id as f32, -(id as f32) * 0.5, 2.0 * id as f32);
-    let forward = if id % 2 == 0 { Vec3::Z } else { -Vec3::Z };
+    let forward = if id.is_multiple_of(2) { Vec3::Z } else { -Vec3::Z };
     let rays = (0..w * h)
         .map(|p| {
             let (x, y) = ((p % w) as f32 + 0.5, (p / w) as f32 + 0.5);

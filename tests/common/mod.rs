@@ -41,7 +41,7 @@ pub fn cornell_look_at() -> CameraDesc {
         Vec3::new(2.78, 2.73, -8.0),
         Vec3::new(2.78, 2.73, 0.0),
         Vec3::Y,
-        Projection::Perspective { fov_y: 39.307_648_116_106_62_f32.to_radians() },
+        Projection::Perspective { fov_y: 39.307_648_f32.to_radians() },
     )
     .expect("cornell look-at camera")
 }

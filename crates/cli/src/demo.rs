@@ -202,10 +202,6 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
         println!("  {what:<46} {}", path.display());
     }
     println!("  {:<46} {}", "remapped rays", rays_path.display());
-    println!(
-        "  {:<46} {}",
-        "linear HDR renders",
-        format!("{}/*.exr, {}", views_dir.display(), final_exr.display())
-    );
+    println!("  {:<46} {}/*.exr, {}", "linear HDR renders", views_dir.display(), final_exr.display());
     Ok(())
 }

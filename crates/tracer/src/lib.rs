@@ -2,6 +2,10 @@
 //! ray through a chain of lens shaders (SPEC §3). It knows nothing about the multicamera collage;
 //! the `mcc` crate plugs in through [`lens::LensShader`].
 #![warn(missing_docs)]
+#![allow(
+    clippy::neg_cmp_op_on_partial_ord,
+    reason = "`!(x > 0.0)` is how this crate rejects NaN along with the out-of-range values"
+)]
 
 pub mod adaptive;
 pub mod atomic;

@@ -146,10 +146,10 @@ impl Material {
         if !(self.ior.is_finite() && self.ior >= 1.0) {
             return Err(format!("material '{}': index of refraction {} must be ≥ 1", self.name, self.ior));
         }
-        if let AlphaMode::Mask { cutoff } = self.alpha_mode {
-            if !cutoff.is_finite() || cutoff < 0.0 {
-                return Err(format!("material '{}': alpha cut-off {cutoff} must be ≥ 0", self.name));
-            }
+        if let AlphaMode::Mask { cutoff } = self.alpha_mode
+            && (!cutoff.is_finite() || cutoff < 0.0)
+        {
+            return Err(format!("material '{}': alpha cut-off {cutoff} must be ≥ 0", self.name));
         }
         for (what, v) in [
             ("metallic", self.metallic),

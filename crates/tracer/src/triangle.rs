@@ -324,9 +324,9 @@ mod tests {
             .collect();
         let fan: Vec<[[f32; 3]; 3]> = (0..7).map(|k| tri(c, ring[k], ring[(k + 1) % 7])).collect();
         let origin = Vec3::new(0.3, -0.2, 4.0);
-        for k in 0..7 {
+        for (k, &corner) in ring.iter().enumerate() {
             for s in 0..64 {
-                let target = c.lerp(ring[k], s as f32 / 64.0);
+                let target = c.lerp(corner, s as f32 / 64.0);
                 let r = ray(origin, target - origin);
                 assert!(
                     fan.iter().any(|t| r.intersect(t, f32::INFINITY).is_some()),

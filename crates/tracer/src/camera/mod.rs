@@ -223,7 +223,7 @@ impl CameraFrame {
 
     /// A camera-space vector in world space.
     #[inline]
-    pub fn to_world(&self, v: Vec3) -> Vec3 {
+    pub fn to_world(self, v: Vec3) -> Vec3 {
         v.x * self.right + v.y * self.up + v.z * self.back
     }
 }

@@ -62,34 +62,34 @@ impl Mesh {
     /// Appends a part with its second texture-coordinate set and tangents.
     pub fn push_with(&mut self, part: MeshPart<'_>, extras: MeshExtras<'_>) -> Result<(), String> {
         let n = part.positions.len();
-        if let Some(uvs1) = extras.uvs1 {
-            if uvs1.len() != n {
-                return Err(format!("{} second texture coordinates for {} vertices", uvs1.len(), n));
-            }
+        if let Some(uvs1) = extras.uvs1
+            && uvs1.len() != n
+        {
+            return Err(format!("{} second texture coordinates for {} vertices", uvs1.len(), n));
         }
-        if let Some(tangents) = extras.tangents {
-            if tangents.len() != n {
-                return Err(format!("{} tangents for {} vertices", tangents.len(), n));
-            }
+        if let Some(tangents) = extras.tangents
+            && tangents.len() != n
+        {
+            return Err(format!("{} tangents for {} vertices", tangents.len(), n));
         }
-        if let Some(normals) = part.normals {
-            if normals.len() != n {
-                return Err(format!("{} normals for {} vertices", normals.len(), n));
-            }
+        if let Some(normals) = part.normals
+            && normals.len() != n
+        {
+            return Err(format!("{} normals for {} vertices", normals.len(), n));
         }
-        if let Some(uvs) = part.uvs {
-            if uvs.len() != n {
-                return Err(format!("{} texture coordinates for {} vertices", uvs.len(), n));
-            }
+        if let Some(uvs) = part.uvs
+            && uvs.len() != n
+        {
+            return Err(format!("{} texture coordinates for {} vertices", uvs.len(), n));
         }
         let count = part.indices.map_or(n, <[u32]>::len);
-        if count % 3 != 0 {
+        if !count.is_multiple_of(3) {
             return Err(format!("{count} indices is not a whole number of triangles"));
         }
-        if let Some(indices) = part.indices {
-            if let Some(&bad) = indices.iter().find(|&&i| i as usize >= n) {
-                return Err(format!("index {bad} out of range for {n} vertices"));
-            }
+        if let Some(indices) = part.indices
+            && let Some(&bad) = indices.iter().find(|&&i| i as usize >= n)
+        {
+            return Err(format!("index {bad} out of range for {n} vertices"));
         }
         let base =
             u32::try_from(self.positions.len()).map_err(|_| "scene exceeds 2^32 vertices".to_owned())?;
