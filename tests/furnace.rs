@@ -120,6 +120,10 @@ fn emissive_diffuse_sphere_matches_closed_form() {
         (p_name, &perspective, p_res, "D=3 RR from 1", rr, 3, SPP),
         (e_name, &equirect, e_res, "D=3 no RR", no_rr, 3, SPP),
         (e_name, &equirect, e_res, "D=3 RR from 1", rr, 3, SPP),
+        // First-vertex splitting: the branches' weight 1/N (N = 3, not a power of two) and
+        // their resuming at the first hit without its emission counted again.
+        (p_name, &perspective, p_res, "D=3 split 3", no_rr.with_split(3), 3, SPP),
+        (e_name, &equirect, e_res, "D=3 RR from 1, split 2", rr.with_split(2), 3, SPP),
         (e_name, &equirect, e_res, "D=200 default RR", unlimited, 200, 160),
     ];
     for (seed, (camera_name, camera, resolution, config_name, config, depth, spp)) in
@@ -185,9 +189,17 @@ fn point_light_in_diffuse_sphere_matches_closed_form() {
     for (camera_name, camera, resolution) in cameras() {
         // (D, roulette from, spp): roulette (default depth 3) adds noise, so those runs take
         // more samples; without it every sample of D ≤ 2 is nearly the exact value.
-        for (depth, rr, spp) in [(1, u32::MAX, SPP), (2, u32::MAX, SPP), (4, 3, SPP), (64, 3, 2 * SPP)] {
-            let config = IntegratorConfig::DEFAULT.with_max_depth(depth).with_rr_depth(rr);
-            let what = format!("point light in sphere, {camera_name}, D={depth}, rr {rr}");
+        // (D, roulette from, spp, split): splitting takes the light sample of the first
+        // vertex once and N branches from it.
+        for (depth, rr, spp, split) in [
+            (1, u32::MAX, SPP, 1),
+            (2, u32::MAX, SPP, 1),
+            (2, u32::MAX, SPP, 4),
+            (4, 3, SPP, 1),
+            (64, 3, 2 * SPP, 1),
+        ] {
+            let config = IntegratorConfig::DEFAULT.with_max_depth(depth).with_rr_depth(rr).with_split(split);
+            let what = format!("point light in sphere, {camera_name}, D={depth}, rr {rr}, split {split}");
             let expected = 1.0 - 0.5f64.powi(depth as i32);
             let job = Job { resolution, spp, seed, config };
             seed += 1;

@@ -171,6 +171,7 @@ pub fn animate(a: &AnimateArgs) -> anyhow::Result<AnimateReport> {
                 spp: q.spp,
                 seed: q.seed,
                 max_depth: q.max_depth,
+                split: q.split,
                 frame,
             };
             write_render(&exr, &rendered, &info, q.aovs, Png::Preview)?;

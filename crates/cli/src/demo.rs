@@ -71,6 +71,7 @@ pub(crate) fn quality(spp: u32, res: Resolution, threads: Option<usize>, quiet: 
         threads,
         max_depth: tracer::integrator::IntegratorConfig::DEFAULT.max_depth,
         rr_depth: tracer::integrator::IntegratorConfig::DEFAULT.rr_depth,
+        split: tracer::integrator::IntegratorConfig::DEFAULT.split,
         env: None,
         env_map: None,
         env_rotation: 0.0,
@@ -131,6 +132,7 @@ pub(crate) fn render_tagged_views(
             spp: q.spp,
             seed: q.seed,
             max_depth: q.max_depth,
+            split: q.split,
             frame,
         };
         let png = write_render(&exr, &rendered, &info, false, Png::Tagged { code, camera: view.id })?;

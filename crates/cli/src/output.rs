@@ -28,6 +28,7 @@ pub struct RenderInfo<'a> {
     pub spp: u32,
     pub seed: u32,
     pub max_depth: u32,
+    pub split: u32,
     pub frame: u32,
 }
 
@@ -46,6 +47,7 @@ pub fn write_render(
         ("mcctrace/spp", info.spp.to_string()),
         ("mcctrace/seed", info.seed.to_string()),
         ("mcctrace/max_depth", info.max_depth.to_string()),
+        ("mcctrace/split", info.split.to_string()),
         ("mcctrace/frame", info.frame.to_string()),
         ("mcctrace/seconds", format!("{:.6}", rendered.stats.seconds)),
         ("mcctrace/rays", rendered.stats.rays.to_string()),

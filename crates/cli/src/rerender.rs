@@ -111,6 +111,7 @@ pub fn render_with_rays(
         spp: q.spp,
         seed: q.seed,
         max_depth: q.max_depth,
+        split: q.split,
         frame,
     };
     let png = write_render(out, &rendered, &info, q.aovs, Png::Preview)?;

@@ -29,9 +29,11 @@ pub fn pilot_spp(spp: u32) -> Option<u32> {
 
 /// Each pixel's total samples (pilot included) for an average of `spp` per pixel, from the
 /// `pilot` film (`width` × `height`, row-major) that took `pilot_spp(spp)` samples per pixel.
-/// Every pixel keeps at least its pilot samples and takes at most [`MAX_SHARE`] × `spp`; the
-/// total never exceeds `spp` per pixel on average.
-pub fn sample_counts(pilot: &[PixelAccumulator], width: u32, height: u32, spp: u32) -> Vec<u32> {
+/// Every pixel keeps at least its pilot samples and takes at most [`MAX_SHARE`] × `spp` and at
+/// most `limit` (the sampler's range: [`MAX_SAMPLES_PER_PIXEL`] over the branches each sample
+/// splits into); the total never exceeds `spp` per pixel on average.
+pub fn sample_counts(pilot: &[PixelAccumulator], width: u32, height: u32, spp: u32, limit: u32) -> Vec<u32> {
+    debug_assert!(limit >= spp && limit <= MAX_SAMPLES_PER_PIXEL);
     debug_assert_eq!(pilot.len(), width as usize * height as usize);
     let Some(pilot_spp) = pilot_spp(spp) else {
         return vec![spp; pilot.len()];
@@ -59,7 +61,7 @@ pub fn sample_counts(pilot: &[PixelAccumulator], width: u32, height: u32, spp: u
         .collect();
     let total: f64 = weight.iter().sum();
     let extra = (spp - pilot_spp) as f64 * pilot.len() as f64;
-    let most = MAX_SAMPLES_PER_PIXEL.min(spp.saturating_mul(MAX_SHARE));
+    let most = limit.min(spp.saturating_mul(MAX_SHARE));
     // A film with no noise at all (or NaN weights, which cannot arise from finite
     // accumulators) is sampled evenly.
     let even = !(total > 0.0 && total.is_finite());
@@ -105,7 +107,7 @@ mod tests {
         let values: Vec<(f32, f32)> = (0..8).map(|x| if x < 4 { (1.0, 1.02) } else { (0.0, 0.2) }).collect();
         let spp = 64;
         let pilot = film(&values, pilot_spp(spp).unwrap());
-        let counts = sample_counts(&pilot, 8, 1, spp);
+        let counts = sample_counts(&pilot, 8, 1, spp, MAX_SAMPLES_PER_PIXEL);
         assert!(counts.iter().all(|&n| n >= 16), "{counts:?}");
         assert!(counts[0] < counts[7] && counts[1] < counts[6], "{counts:?}");
         assert!(counts.windows(2).all(|w| w[0] <= w[1]), "monotone in the noise: {counts:?}");
@@ -139,13 +141,17 @@ mod tests {
     #[test]
     fn even_small_and_capped_cases() {
         let flat = film(&[(0.5, 0.5); 6], 8);
-        assert_eq!(sample_counts(&flat, 3, 2, 32), vec![32; 6]);
+        assert_eq!(sample_counts(&flat, 3, 2, 32, MAX_SAMPLES_PER_PIXEL), vec![32; 6]);
         assert_eq!(pilot_spp(3), None);
-        assert_eq!(sample_counts(&film(&[(0.0, 1.0); 4], 3), 2, 2, 3), vec![3; 4]);
+        assert_eq!(sample_counts(&film(&[(0.0, 1.0); 4], 3), 2, 2, 3, MAX_SAMPLES_PER_PIXEL), vec![3; 4]);
         let mut one = vec![(0.3, 0.3); 400];
         one[210] = (0.0, 5.0);
-        let counts = sample_counts(&film(&one, 4), 20, 20, 16);
+        let counts = sample_counts(&film(&one, 4), 20, 20, 16, MAX_SAMPLES_PER_PIXEL);
         assert_eq!(counts.iter().max(), Some(&(16 * MAX_SHARE)));
+        assert!(counts.iter().all(|&n| n >= 4));
+        // A limit below the share's cap (the sampler's range split between branches) holds.
+        let counts = sample_counts(&film(&one, 4), 20, 20, 16, 100);
+        assert_eq!(counts.iter().max(), Some(&100));
         assert!(counts.iter().all(|&n| n >= 4));
     }
 }

@@ -22,7 +22,7 @@ use crate::interaction::SurfaceInteraction;
 use crate::light::{LightSampler, ShadowTarget};
 use crate::material::{AlphaMode, Material};
 use crate::ray::Ray;
-use crate::sampler::{Sampler, sets};
+use crate::sampler::{MAX_SAMPLES_PER_PIXEL, Sampler, sets};
 use crate::sampling::{Frame, power_heuristic};
 use crate::scene::Scene;
 use crate::shading::{self, ShadingPoint, TangentFrame};
@@ -36,13 +36,18 @@ pub struct IntegratorConfig {
     pub max_depth: u32,
     /// Russian roulette starts after this many scattering vertices (`u32::MAX`: never).
     pub rr_depth: u32,
+    /// Paths continued from each camera ray's first hit (first-vertex splitting; 1: none). The
+    /// first hit's emission and light sample are taken once; `split` BSDF samples each carry on
+    /// a path of their own with weight 1/`split`. Indirect light, nearly all of a typical
+    /// image's noise, then gets `split` paths per camera ray, traced and shaded once.
+    pub split: u32,
 }
 
 impl IntegratorConfig {
     /// A general-purpose default: 8 scattering vertices, roulette after 5. (Roulette after 3
     /// cost the Cornell box 32 % more relMSE for 4 % less time: throughput-based roulette
     /// only pays on long paths.)
-    pub const DEFAULT: Self = Self { max_depth: 8, rr_depth: 5 };
+    pub const DEFAULT: Self = Self { max_depth: 8, rr_depth: 5, split: 1 };
 
     /// The same configuration with another maximum depth.
     pub const fn with_max_depth(self, max_depth: u32) -> Self {
@@ -52,6 +57,11 @@ impl IntegratorConfig {
     /// The same configuration with roulette from another depth.
     pub const fn with_rr_depth(self, rr_depth: u32) -> Self {
         Self { rr_depth, ..self }
+    }
+
+    /// The same configuration with `split` paths continued from each first hit.
+    pub const fn with_split(self, split: u32) -> Self {
+        Self { split, ..self }
     }
 }
 
@@ -116,6 +126,9 @@ pub struct PathTracer {
     /// direct light by light sampling alone (see [`PathTracer::radiance`]).
     lights_cover_emission: bool,
     config: IntegratorConfig,
+    /// 1 / `config.split`: the weight of each branch continued from a first hit (exactly 1
+    /// without splitting, so a multiply by it changes no bit).
+    branch_weight: f32,
 }
 
 /// Interpolates a per-triangle attribute with barycentrics `b`.
@@ -130,6 +143,12 @@ impl PathTracer {
         scene.validate()?;
         if config.max_depth == 0 {
             return Err(TracerError::Settings("max depth must be at least 1".into()));
+        }
+        if config.split == 0 || config.split > MAX_SAMPLES_PER_PIXEL {
+            return Err(TracerError::Settings(format!(
+                "{} paths split from each first hit: must be 1 ..= {MAX_SAMPLES_PER_PIXEL}",
+                config.split
+            )));
         }
         let mesh = &scene.mesh;
         fn gather<T: Copy>(tris: &[[u32; 3]], attr: &[T]) -> Option<Vec<[T; 3]>> {
@@ -174,6 +193,7 @@ impl PathTracer {
             lambert_only,
             environment: scene.environment.color,
             config,
+            branch_weight: 1.0 / config.split as f32,
         })
     }
 
@@ -359,6 +379,13 @@ impl PathTracer {
     /// normal, transmission or specular parameter, and samples triangle lights alone).
     /// `u_light` is the first vertex's light sample (it shares the camera's set, see
     /// `crate::sampler::sets`).
+    ///
+    /// With first-vertex splitting (`IntegratorConfig::split` = N > 1), branch b of camera
+    /// sample i draws every number past the camera's from sample i·N + b of the pixel's sequence
+    /// ([`Sampler::branch`]). Branch 0 runs the whole path; each later one resumes at the first
+    /// hit, kept from branch 0, and takes neither its emission nor its light sample again. Any
+    /// MIS weights that sum to one keep the estimate unbiased, so the first hit's light sample
+    /// and its N BSDF samples share the power heuristic of one sample each.
     #[inline(always)]
     pub fn radiance<const AOV: bool, const ALPHA: bool, const LAMBERT: bool>(
         &self,
@@ -367,6 +394,7 @@ impl PathTracer {
         u_light: Vec2,
         first: &mut FirstHit,
     ) -> PathSample {
+        let camera_ray = ray;
         let mut ray = ray;
         let mut u_light = u_light;
         let mut l = Vec3::ZERO;
@@ -380,191 +408,240 @@ impl PathTracer {
         // The triangles the current ray cannot hit: the one it was spawned from, and its
         // leaf-mates behind it (none for the eye ray).
         let mut leaving = Leaving::NOTHING;
-        loop {
-            rays += 1;
-            let Some(hit) = self.closest_hit::<ALPHA>(&ray, leaving) else {
-                let env = self.lights.environment();
-                let le = env.map_or(self.environment, |e| e.radiance(ray.direction));
-                if le != Vec3::ZERO {
-                    let w = if depth == 0 || specular_bounce || env.is_none() {
-                        1.0
-                    } else {
-                        power_heuristic(prev_bsdf_pdf, self.lights.pdf_environment(ray.direction))
+        // First-vertex splitting: the branch being traced, its numbers, the camera ray's hit
+        // (kept for the branches after the first) and whether this vertex resumes at it.
+        let split = self.config.split;
+        let mut branch = 0u32;
+        let base = *sampler;
+        let mut sampler = base.branch(split, 0);
+        let mut camera_hit: Option<Hit> = None;
+        let mut resumed = false;
+        'branches: loop {
+            loop {
+                let hit = if resumed {
+                    let Some(hit) = camera_hit else { break 'branches };
+                    hit
+                } else {
+                    rays += 1;
+                    let Some(hit) = self.closest_hit::<ALPHA>(&ray, leaving) else {
+                        let env = self.lights.environment();
+                        let le = env.map_or(self.environment, |e| e.radiance(ray.direction));
+                        if le != Vec3::ZERO {
+                            let w = if depth == 0 || specular_bounce || env.is_none() {
+                                1.0
+                            } else {
+                                power_heuristic(prev_bsdf_pdf, self.lights.pdf_environment(ray.direction))
+                            };
+                            l += beta * le * w;
+                        }
+                        if AOV && depth == 0 {
+                            *first =
+                                FirstHit { albedo: Vec3::ZERO, normal: Vec3::ZERO, depth: f32::INFINITY };
+                        }
+                        break;
                     };
-                    l += beta * le * w;
+                    if depth == 0 {
+                        camera_hit = Some(hit);
+                    }
+                    hit
+                };
+                debug_assert!(!LAMBERT || self.lambert_only);
+                let si = self.surface::<LAMBERT>(&hit);
+                let material = &self.materials[si.material as usize];
+                let sp = self.shade::<LAMBERT>(material, &si, hit.barycentrics);
+                let wo = -ray.direction;
+
+                if !resumed
+                    && sp.emission != Vec3::ZERO
+                    && (material.emission_two_sided || si.n_geom.dot(wo) > 0.0)
+                {
+                    if depth == 0 || specular_bounce {
+                        l += beta * sp.emission;
+                    } else {
+                        let light_pdf = self.lights.pdf_triangle(hit.triangle, hit.t, ray.direction);
+                        l += beta * sp.emission * power_heuristic(prev_bsdf_pdf, light_pdf);
+                    }
                 }
                 if AOV && depth == 0 {
-                    *first = FirstHit { albedo: Vec3::ZERO, normal: Vec3::ZERO, depth: f32::INFINITY };
+                    let n = if sp.normal.dot(wo) < 0.0 { -sp.normal } else { sp.normal };
+                    *first = FirstHit { albedo: sp.base_color, normal: n, depth: hit.t };
                 }
-                break;
-            };
-            debug_assert!(!LAMBERT || self.lambert_only);
-            let si = self.surface::<LAMBERT>(&hit);
-            let material = &self.materials[si.material as usize];
-            let sp = self.shade::<LAMBERT>(material, &si, hit.barycentrics);
-            let wo = -ray.direction;
-
-            if sp.emission != Vec3::ZERO && (material.emission_two_sided || si.n_geom.dot(wo) > 0.0) {
-                if depth == 0 || specular_bounce {
-                    l += beta * sp.emission;
-                } else {
-                    let light_pdf = self.lights.pdf_triangle(hit.triangle, hit.t, ray.direction);
-                    l += beta * sp.emission * power_heuristic(prev_bsdf_pdf, light_pdf);
-                }
-            }
-            if AOV && depth == 0 {
-                let n = if sp.normal.dot(wo) < 0.0 { -sp.normal } else { sp.normal };
-                *first = FirstHit { albedo: sp.base_color, normal: n, depth: hit.t };
-            }
-            if depth == max_depth {
-                break;
-            }
-
-            // Numbers for this vertex (BSDF direction + next light sample) are drawn when the
-            // path goes on; the one-dimensional decisions only when needed.
-            let roulette = depth + 1 >= self.config.rr_depth;
-            let glass_weight = material.transmission * (1.0 - sp.metallic);
-            let mut decisions = None;
-            let vertex = depth;
-            let mut decide =
-                |k: usize| decisions.get_or_insert_with(|| sampler.get(sets::decisions(vertex)))[k];
-
-            let glass = !LAMBERT && glass_weight > 0.0 && (glass_weight >= 1.0 || decide(2) < glass_weight);
-            if glass {
-                // A smooth dielectric interface: reflect or refract by Fresnel.
-                let entering = si.n_geom.dot(wo) > 0.0;
-                let mut n = if sp.normal.dot(si.n_geom) < 0.0 { -sp.normal } else { sp.normal };
-                let mut eta = material.ior;
-                if !entering {
-                    n = -n;
-                    eta = 1.0 / eta;
-                }
-                let cos_o = n.dot(wo).max(1e-6);
-                let fresnel = dielectric::fresnel(cos_o, eta);
-                let (wi, weight) = if decide(3) < fresnel {
-                    (2.0 * cos_o * n - wo, Vec3::ONE)
-                } else {
-                    match dielectric::refract(wo, n, eta) {
-                        // Radiance is compressed by η² crossing into the denser side.
-                        Some(wi) => (wi, sp.base_color / (eta * eta)),
-                        None => (2.0 * cos_o * n - wo, Vec3::ONE),
-                    }
-                };
-                // The new direction must leave on the side its event says (reflection on wo's
-                // side of the geometry, refraction on the other), or the shading normal lied.
-                let reflected = wi.dot(n) > 0.0;
-                if (wi.dot(si.n_geom) > 0.0) != (entering == reflected) {
+                if depth == max_depth {
                     break;
                 }
-                beta *= weight;
-                specular_bounce = true;
-                let [_, _, l0, l1] = sampler.get(sets::vertex(depth));
-                u_light = Vec2::new(l0, l1);
-                ray = si.spawn_ray(wi, ray.time);
-            } else {
-                let bsdf = if LAMBERT {
-                    Bsdf::lambert(sp.base_color, si.shading, si.n_geom, wo)
-                } else {
-                    let params = BsdfParams {
-                        base_color: sp.base_color,
-                        metallic: sp.metallic,
-                        roughness: sp.roughness,
-                        ..BsdfParams::of(material)
-                    };
-                    // The hit's shading frame, unless a normal map moved the normal.
-                    let frame = if material.textures.normal.is_some() {
-                        Frame::from_z(sp.normal)
+
+                // Numbers for this vertex (BSDF direction + next light sample) are drawn when the
+                // path goes on; the one-dimensional decisions only when needed.
+                let roulette = depth + 1 >= self.config.rr_depth;
+                let glass_weight = material.transmission * (1.0 - sp.metallic);
+                let mut decisions = None;
+                let vertex = depth;
+                let mut decide =
+                    |k: usize| decisions.get_or_insert_with(|| sampler.get(sets::decisions(vertex)))[k];
+
+                let glass =
+                    !LAMBERT && glass_weight > 0.0 && (glass_weight >= 1.0 || decide(2) < glass_weight);
+                if glass {
+                    // A smooth dielectric interface: reflect or refract by Fresnel.
+                    let entering = si.n_geom.dot(wo) > 0.0;
+                    let mut n = if sp.normal.dot(si.n_geom) < 0.0 { -sp.normal } else { sp.normal };
+                    let mut eta = material.ior;
+                    if !entering {
+                        n = -n;
+                        eta = 1.0 / eta;
+                    }
+                    let cos_o = n.dot(wo).max(1e-6);
+                    let fresnel = dielectric::fresnel(cos_o, eta);
+                    let (wi, weight) = if decide(3) < fresnel {
+                        (2.0 * cos_o * n - wo, Vec3::ONE)
                     } else {
-                        si.shading
-                    };
-                    Bsdf::with_frame(&params, frame, si.n_geom, wo)
-                };
-                if bsdf.is_black() {
-                    break;
-                }
-                // At the last vertex the BSDF ray could only find emission, which light
-                // sampling already covers: estimate it by light sampling alone (weight 1) and
-                // skip that ray and its hit. Unbiased either way; done only on diffuse BSDFs
-                // (where a light sample is never the worse strategy by much) past the first
-                // vertex (direct light seen by the camera keeps MIS). On the Cornell box this
-                // saves one closest-hit query in every path that reaches the last vertex.
-                let light_only =
-                    depth + 1 == max_depth && depth > 0 && self.lights_cover_emission && bsdf.is_diffuse();
-
-                // The BSDF sample that continues the path, its ray and the next vertex's light
-                // numbers come before next-event estimation. They do not depend on it, and
-                // placed ahead of its shadow query they are computed while the query runs
-                // instead of after it (same bits, ≈ 2 % faster on the Cornell box). An `if`, not
-                // `bool::then` with a closure: LLVM once left that closure out of line (14 % of
-                // the instructions behind a call, 4–5 % slower).
-                let next = if light_only {
-                    None
-                } else {
-                    let [u0, u1, l0, l1] = sampler.get(sets::vertex(depth));
-                    let u_lobe = if bsdf.has_lobe_choice() { decide(0) } else { 0.5 };
-                    let bs = bsdf.sample(Vec2::new(u0, u1), u_lobe);
-                    Some((bs.map(|bs| (bs, si.spawn_ray(bs.wi, ray.time))), Vec2::new(l0, l1)))
-                };
-
-                // Next-event estimation.
-                let ls = if LAMBERT {
-                    self.lights.sample_triangles(si.p, u_light)
-                } else {
-                    self.lights.sample(si.p, u_light)
-                };
-                if let Some(ls) = ls {
-                    let (f, bsdf_pdf) = bsdf.eval(ls.wi);
-                    let mut li = ls.li;
-                    if let (false, Some((tri, b))) = (LAMBERT, ls.emitter) {
-                        let m = &self.materials[self.material_ids[tri as usize] as usize];
-                        if let Some(r) = &m.textures.emissive {
-                            li *= r.eval(&self.textures, self.uvs(tri, b)).truncate();
+                        match dielectric::refract(wo, n, eta) {
+                            // Radiance is compressed by η² crossing into the denser side.
+                            Some(wi) => (wi, sp.base_color / (eta * eta)),
+                            None => (2.0 * cos_o * n - wo, Vec3::ONE),
                         }
+                    };
+                    // The new direction must leave on the side its event says (reflection on wo's
+                    // side of the geometry, refraction on the other), or the shading normal lied.
+                    let reflected = wi.dot(n) > 0.0;
+                    if (wi.dot(si.n_geom) > 0.0) != (entering == reflected) {
+                        break;
                     }
-                    if f != Vec3::ZERO && li != Vec3::ZERO {
-                        let shadow = match ls.target {
-                            ShadowTarget::Point { p, p_error, n } => si.spawn_ray_to(p, p_error, n, ray.time),
-                            ShadowTarget::Infinite => Some((si.spawn_ray(ls.wi, ray.time), f32::INFINITY)),
+                    beta *= weight;
+                    specular_bounce = true;
+                    let [_, _, l0, l1] = sampler.get(sets::vertex(depth));
+                    u_light = Vec2::new(l0, l1);
+                    ray = si.spawn_ray(wi, ray.time);
+                } else {
+                    let bsdf = if LAMBERT {
+                        Bsdf::lambert(sp.base_color, si.shading, si.n_geom, wo)
+                    } else {
+                        let params = BsdfParams {
+                            base_color: sp.base_color,
+                            metallic: sp.metallic,
+                            roughness: sp.roughness,
+                            ..BsdfParams::of(material)
                         };
-                        if let Some((shadow, t_max)) = shadow {
-                            rays += 1;
-                            if !self.occluded::<ALPHA>(
-                                &shadow,
-                                t_max,
-                                self.bvh.leaving(hit.slot, shadow.direction),
-                            ) {
-                                let cos = ls.wi.dot(bsdf.shading_normal()).abs();
-                                let w = if ls.is_delta || light_only {
-                                    1.0
-                                } else {
-                                    power_heuristic(ls.pdf, bsdf_pdf)
-                                };
-                                l += beta * f * li * (cos * w / ls.pdf);
+                        // The hit's shading frame, unless a normal map moved the normal.
+                        let frame = if material.textures.normal.is_some() {
+                            Frame::from_z(sp.normal)
+                        } else {
+                            si.shading
+                        };
+                        Bsdf::with_frame(&params, frame, si.n_geom, wo)
+                    };
+                    if bsdf.is_black() {
+                        break;
+                    }
+                    // At the last vertex the BSDF ray could only find emission, which light
+                    // sampling already covers: estimate it by light sampling alone (weight 1) and
+                    // skip that ray and its hit. Unbiased either way; done only on diffuse BSDFs
+                    // (where a light sample is never the worse strategy by much) past the first
+                    // vertex (direct light seen by the camera keeps MIS). On the Cornell box this
+                    // saves one closest-hit query in every path that reaches the last vertex.
+                    let light_only = depth + 1 == max_depth
+                        && depth > 0
+                        && self.lights_cover_emission
+                        && bsdf.is_diffuse();
+
+                    // The BSDF sample that continues the path, its ray and the next vertex's light
+                    // numbers come before next-event estimation. They do not depend on it, and
+                    // placed ahead of its shadow query they are computed while the query runs
+                    // instead of after it (same bits, ≈ 2 % faster on the Cornell box). An `if`, not
+                    // `bool::then` with a closure: LLVM once left that closure out of line (14 % of
+                    // the instructions behind a call, 4–5 % slower).
+                    let next = if light_only {
+                        None
+                    } else {
+                        let [u0, u1, l0, l1] = sampler.get(sets::vertex(depth));
+                        let u_lobe = if bsdf.has_lobe_choice() { decide(0) } else { 0.5 };
+                        let bs = bsdf.sample(Vec2::new(u0, u1), u_lobe);
+                        Some((bs.map(|bs| (bs, si.spawn_ray(bs.wi, ray.time))), Vec2::new(l0, l1)))
+                    };
+
+                    // Next-event estimation (once per first hit, not per branch).
+                    let ls = if resumed {
+                        None
+                    } else if LAMBERT {
+                        self.lights.sample_triangles(si.p, u_light)
+                    } else {
+                        self.lights.sample(si.p, u_light)
+                    };
+                    if let Some(ls) = ls {
+                        let (f, bsdf_pdf) = bsdf.eval(ls.wi);
+                        let mut li = ls.li;
+                        if let (false, Some((tri, b))) = (LAMBERT, ls.emitter) {
+                            let m = &self.materials[self.material_ids[tri as usize] as usize];
+                            if let Some(r) = &m.textures.emissive {
+                                li *= r.eval(&self.textures, self.uvs(tri, b)).truncate();
+                            }
+                        }
+                        if f != Vec3::ZERO && li != Vec3::ZERO {
+                            let shadow = match ls.target {
+                                ShadowTarget::Point { p, p_error, n } => {
+                                    si.spawn_ray_to(p, p_error, n, ray.time)
+                                }
+                                ShadowTarget::Infinite => {
+                                    Some((si.spawn_ray(ls.wi, ray.time), f32::INFINITY))
+                                }
+                            };
+                            if let Some((shadow, t_max)) = shadow {
+                                rays += 1;
+                                if !self.occluded::<ALPHA>(
+                                    &shadow,
+                                    t_max,
+                                    self.bvh.leaving(hit.slot, shadow.direction),
+                                ) {
+                                    let cos = ls.wi.dot(bsdf.shading_normal()).abs();
+                                    let w = if ls.is_delta || light_only {
+                                        1.0
+                                    } else {
+                                        power_heuristic(ls.pdf, bsdf_pdf)
+                                    };
+                                    l += beta * f * li * (cos * w / ls.pdf);
+                                }
                             }
                         }
                     }
-                }
 
-                // Continue the path along the BSDF sample drawn above. (`next` nests its two
-                // Options on purpose: flattened into one, LLVM emitted 1.4 % more instructions.)
-                let Some((Some((bs, next_ray)), u_next)) = next else { break };
-                u_light = u_next;
-                beta *= bs.f * (bs.cos / bs.pdf);
-                prev_bsdf_pdf = bs.pdf;
-                specular_bounce = false;
-                ray = next_ray;
-            }
-            // Either branch spawned the next ray here.
-            leaving = self.bvh.leaving(hit.slot, ray.direction);
-            depth += 1;
-
-            if roulette {
-                let q = (1.0 - beta.max_element()).max(0.0);
-                if decide(1) < q {
-                    break;
+                    // Continue the path along the BSDF sample drawn above. (`next` nests its two
+                    // Options on purpose: flattened into one, LLVM emitted 1.4 % more instructions.)
+                    let Some((Some((bs, next_ray)), u_next)) = next else { break };
+                    u_light = u_next;
+                    beta *= bs.f * (bs.cos / bs.pdf);
+                    prev_bsdf_pdf = bs.pdf;
+                    specular_bounce = false;
+                    ray = next_ray;
                 }
-                beta /= 1.0 - q;
+                // Either branch spawned the next ray here.
+                leaving = self.bvh.leaving(hit.slot, ray.direction);
+                if depth == 0 {
+                    beta *= self.branch_weight;
+                    resumed = false;
+                }
+                depth += 1;
+
+                if roulette {
+                    let q = (1.0 - beta.max_element()).max(0.0);
+                    if decide(1) < q {
+                        break;
+                    }
+                    beta /= 1.0 - q;
+                }
             }
+            // The path has ended; the next branch resumes at the camera ray's hit.
+            branch += 1;
+            if branch == split {
+                break;
+            }
+            sampler = base.branch(split, branch);
+            ray = camera_ray;
+            beta = Vec3::ONE;
+            prev_bsdf_pdf = 0.0;
+            specular_bounce = false;
+            depth = 0;
+            leaving = Leaving::NOTHING;
+            resumed = true;
         }
         PathSample { radiance: l, rays }
     }

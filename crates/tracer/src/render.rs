@@ -101,9 +101,14 @@ pub fn render(
     progress: &dyn Progress,
 ) -> Result<Rendered> {
     let res = camera.resolution();
-    if settings.spp == 0 || settings.spp > MAX_SAMPLES_PER_PIXEL {
+    // Each camera sample's split branches take sample indices of their own (`Sampler::branch`).
+    let split = tracer.config().split;
+    let most_spp = MAX_SAMPLES_PER_PIXEL / split;
+    if settings.spp == 0 || settings.spp > most_spp {
+        let per_branch =
+            if split > 1 { format!(" with {split} paths split from each first hit") } else { String::new() };
         return Err(TracerError::Settings(format!(
-            "{} samples per pixel: must be 1 ..= {MAX_SAMPLES_PER_PIXEL}",
+            "{} samples per pixel: must be 1 ..= {most_spp}{per_branch}",
             settings.spp
         )));
     }
@@ -147,7 +152,7 @@ pub fn render(
             None => trace(&Pass { start: 0, ends: Ends::All(settings.spp), previous: None }),
             Some(pilot) => {
                 let (film, pilot_rays) = trace(&Pass { start: 0, ends: Ends::All(pilot), previous: None });
-                let counts = adaptive::sample_counts(&film, res.x, res.y, settings.spp);
+                let counts = adaptive::sample_counts(&film, res.x, res.y, settings.spp, most_spp);
                 let pass = Pass { start: pilot, ends: Ends::PerPixel(&counts), previous: Some(&film) };
                 let (film, rays) = trace(&pass);
                 (film, pilot_rays + rays)
@@ -382,22 +387,23 @@ mod tests {
     }
 
     /// The Lambert-only path gives the same bits as the general one (image, variance, AOVs,
-    /// ray counts, with roulette and adaptive sampling) on a scene of diffuse surfaces, one
-    /// emitter and a constant environment; it is taken only where every surface is an
-    /// untextured, flat-shaded Lambertian lit by emissive triangles.
+    /// ray counts, with roulette, adaptive sampling and first-vertex splitting) on a scene of
+    /// diffuse surfaces, one emitter and a constant environment; it is taken only where every
+    /// surface is an untextured, flat-shaded Lambertian lit by emissive triangles.
     #[test]
     fn lambert_path_is_the_general_path_bit_for_bit() {
         let scene = lambert_scene();
         let camera = test_camera();
         let config = IntegratorConfig::DEFAULT.with_rr_depth(2);
-        let lambert = PathTracer::new(&scene, config).unwrap();
-        assert!(lambert.lambert_only());
-        let general = PathTracer::new(&scene, config).unwrap().without_lambert_path();
-        assert!(!general.lambert_only());
-        for settings in [
-            RenderSettings { aovs: true, ..RenderSettings::still(16) },
-            RenderSettings { adaptive: true, seed: 3, ..RenderSettings::still(8) },
+        for (settings, split) in [
+            (RenderSettings { aovs: true, ..RenderSettings::still(16) }, 1),
+            (RenderSettings { adaptive: true, seed: 3, ..RenderSettings::still(8) }, 1),
+            (RenderSettings { adaptive: true, aovs: true, seed: 4, ..RenderSettings::still(8) }, 2),
         ] {
+            let lambert = PathTracer::new(&scene, config.with_split(split)).unwrap();
+            assert!(lambert.lambert_only());
+            let general = PathTracer::new(&scene, config.with_split(split)).unwrap().without_lambert_path();
+            assert!(!general.lambert_only());
             let run = |tracer: &PathTracer| {
                 render(tracer, camera.as_ref(), &mut LensChain::new(), &settings, &NoProgress).unwrap()
             };
@@ -436,6 +442,81 @@ mod tests {
         let mut lamp = scene;
         lamp.lights.push(crate::scene::PunctualLight::Point { position: Vec3::Y, intensity: Vec3::ONE });
         assert!(!PathTracer::new(&lamp, config).unwrap().lambert_only(), "a point light");
+    }
+
+    /// First-vertex splitting resumes every branch at the camera ray's hit. Inside a closed,
+    /// unlit box with at most 2 scattering vertices, each camera sample traces its own ray once
+    /// and each of its N branches one continuation (the last vertex takes no BSDF ray, and there
+    /// is no light to sample): 1 + N rays. A camera ray that misses splits into nothing.
+    /// Branches take sample indices of their own, so spp × N beyond the sampler's range is
+    /// refused, with the split named; at the range's edge the render runs.
+    #[test]
+    fn split_branches_resume_at_the_first_hit() {
+        let mut boxed = Scene::default();
+        boxed.materials = vec![Material::diffuse("white", Vec3::splat(0.5))];
+        let (o, x, y, z) = (Vec3::splat(-1.0), Vec3::X * 2.0, Vec3::Y * 2.0, Vec3::Z * 2.0);
+        for (corner, u, v) in [
+            (o, y, x),
+            (o, x, z),
+            (o, z, y),
+            (o + x + y + z, -x, -y),
+            (o + x + y + z, -y, -z),
+            (o + x + y + z, -z, -x),
+        ] {
+            quad(&mut boxed, corner, u, v, 0);
+        }
+        let camera = CameraDesc::look_at(
+            "inside",
+            Vec3::ZERO,
+            Vec3::new(0.2, 0.1, -1.0),
+            Vec3::Y,
+            Projection::Perspective { fov_y: 60f32.to_radians() },
+        )
+        .unwrap();
+        let inside = camera.build(UVec2::new(8, 6)).unwrap();
+        let config = IntegratorConfig::DEFAULT.with_max_depth(2);
+        for split in [1, 2, 5] {
+            let tracer = PathTracer::new(&boxed, config.with_split(split)).unwrap();
+            let r = render(
+                &tracer,
+                inside.as_ref(),
+                &mut LensChain::new(),
+                &RenderSettings::still(4),
+                &NoProgress,
+            )
+            .unwrap();
+            assert_eq!(r.stats.samples, 8 * 6 * 4);
+            assert_eq!(r.stats.rays, r.stats.samples * (1 + split as u64), "split {split}");
+        }
+        // The camera outside the box, looking away: every camera ray misses.
+        let away = CameraDesc::look_at(
+            "away",
+            Vec3::Z * 5.0,
+            Vec3::Z * 6.0,
+            Vec3::Y,
+            Projection::Perspective { fov_y: 30f32.to_radians() },
+        )
+        .unwrap()
+        .build(UVec2::new(4, 4))
+        .unwrap();
+        let tracer = PathTracer::new(&boxed, config.with_split(4)).unwrap();
+        let r = render(&tracer, away.as_ref(), &mut LensChain::new(), &RenderSettings::still(2), &NoProgress)
+            .unwrap();
+        assert_eq!(r.stats.rays, r.stats.samples);
+
+        let one = camera.build(UVec2::new(1, 1)).unwrap();
+        let tracer = PathTracer::new(&boxed, config.with_split(4)).unwrap();
+        let too_many = RenderSettings::still(MAX_SAMPLES_PER_PIXEL / 4 + 1);
+        let err = render(&tracer, one.as_ref(), &mut LensChain::new(), &too_many, &NoProgress).unwrap_err();
+        assert!(err.to_string().contains("4 paths split"), "{err}");
+        for adaptive in [false, true] {
+            let most = RenderSettings { adaptive, ..RenderSettings::still(MAX_SAMPLES_PER_PIXEL / 4) };
+            let r = render(&tracer, one.as_ref(), &mut LensChain::new(), &most, &NoProgress).unwrap();
+            assert_eq!(r.stats.samples, (MAX_SAMPLES_PER_PIXEL / 4) as u64);
+        }
+        for split in [0, MAX_SAMPLES_PER_PIXEL + 1] {
+            assert!(PathTracer::new(&boxed, config.with_split(split)).is_err(), "split {split}");
+        }
     }
 
     /// Every level of the tile loop this CPU runs (x86-64-v3 and -v4 builds) gives the same

@@ -64,6 +64,17 @@ impl Sampler {
         Self { pixel_seed, index, sobol_bytes: &SOBOL_BYTES }
     }
 
+    /// The sampler of branch `branch` of `branches` split from this sample (first-vertex
+    /// splitting, `crate::integrator`): index `index · branches + branch` of the same pixel's
+    /// sequence, so a pixel's branches are consecutive points of one Sobol sequence (each run of
+    /// 2^k is stratified) and one branch of one (`branch(1, 0)`) is this sampler itself.
+    #[inline]
+    pub fn branch(&self, branches: u32, branch: u32) -> Self {
+        debug_assert!(branch < branches);
+        debug_assert!((self.index as u64 + 1) * branches as u64 <= MAX_SAMPLES_PER_PIXEL as u64);
+        Self { index: self.index * branches + branch, ..*self }
+    }
+
     /// The four numbers of dimension set `set` (see [`sets`]): a randomised 4-D Sobol point,
     /// independently shuffled and scrambled per pixel and set. Bit for bit
     /// `sobol_burley::sample_4d(index, 0, seed)` (a test checks it), with its Sobol step
@@ -121,6 +132,20 @@ mod tests {
                     want.map(f32::to_bits),
                     "index {index}, set {set}"
                 );
+            }
+        }
+    }
+
+    /// A branch is the sample of index `index · branches + branch` of the same pixel and seed;
+    /// one branch of one is the sample itself.
+    #[test]
+    fn branches_are_later_indices_of_the_same_sequence() {
+        let (pixel, seed) = (UVec2::new(5, 9), 77);
+        let base = Sampler::new(pixel, 13, seed);
+        for set in [0, 3, sets::decisions(1)] {
+            assert_eq!(base.branch(1, 0).get(set), base.get(set));
+            for b in 0..4 {
+                assert_eq!(base.branch(4, b).get(set), Sampler::new(pixel, 13 * 4 + b, seed).get(set));
             }
         }
     }
