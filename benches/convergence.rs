@@ -4,14 +4,16 @@
 //! `cargo bench -p mcctrace-suite --bench convergence` renders `scenes/cornell/cornell.gltf`
 //! (camera `cornell`, 256², at most 4 scattering vertices, default roulette depth) at 1, 2, 4,
 //! … 256 spp on the default rayon pool, with samples spread evenly and (from 4 spp) with
-//! adaptive sampling (`tracer::adaptive`, spp then being the average), times each by the
+//! adaptive sampling (`tracer::adaptive`, spp then being the average), then both again with
+//! first-vertex splitting into 2 paths (`--split 2`, up to 128 spp), times each by the
 //! render's own `stats.seconds` (tracing only; best of a few runs — the image is the same each
 //! run, the seed being fixed), measures relMSE against the Mitsuba 3 reference with
 //! `tracer::compare::rel_mse` (mean over pixels and channels of (x − r)² / (r² + 0.01)), and
 //! writes
 //!
-//! - `target/convergence/cornell.csv` and `cornell-adaptive.csv`: rows `spp,seconds,rel_mse`;
-//! - `target/convergence/cornell.png`: relMSE against seconds on log–log axes, both series,
+//! - `target/convergence/cornell.csv`, `cornell-adaptive.csv`, `cornell-split2.csv` and
+//!   `cornell-adaptive-split2.csv`: rows `spp,seconds,rel_mse`;
+//! - `target/convergence/cornell.png`: relMSE against seconds on log–log axes, all series,
 //!   with the peers' points and the relMSE = 1e-3 line;
 //!
 //! and prints the tables and the time at which relMSE first reaches 1e-3 (log–log interpolation
@@ -31,6 +33,8 @@ use tracer::scene::{CameraSelector, Scene};
 const SIZE: u32 = 256;
 const SEED: u32 = 7;
 const TARGET: f64 = 1e-3;
+/// The first-vertex split of the third and fourth series.
+const SPLIT: u32 = 2;
 
 /// Peers (NOTES.md / the reference README): (label, [(seconds, relMSE)]).
 const MITSUBA_LLVM: [(f64, f64); 3] = [(0.231, 0.00919), (0.906, 0.00234), (3.60, 0.000584)];
@@ -55,6 +59,7 @@ fn main() {
             .expect("read the Mitsuba reference");
     let config = IntegratorConfig::DEFAULT.with_max_depth(4);
     let tracer = PathTracer::new(&scene, config).expect("prepare the scene");
+    let split_tracer = PathTracer::new(&scene, config.with_split(SPLIT)).expect("prepare the scene");
     println!(
         "Cornell box {SIZE}², max depth {}, roulette from depth {}{}, {} threads, seed {SEED}",
         config.max_depth,
@@ -66,12 +71,18 @@ fn main() {
     // Warm up (page in, spin up the pool) so the 1-spp timing is not a cold start.
     let _ = render(&tracer, camera.as_ref(), &mut LensChain::new(), &RenderSettings::still(4), &NoProgress);
 
-    let series = |adaptive: bool| {
-        println!("\n{} sampling", if adaptive { "adaptive" } else { "uniform" });
+    let series = |adaptive: bool, split: u32| {
+        let tracer = if split == 1 { &tracer } else { &split_tracer };
+        println!(
+            "\n{} sampling{}",
+            if adaptive { "adaptive" } else { "uniform" },
+            if split == 1 { String::new() } else { format!(", {split} paths split from each first hit") }
+        );
         println!("{:>5} {:>9} {:>11} {:>11} {:>13}", "spp", "seconds", "relMSE", "relMSE·spp", "M samples/s");
         let mut rows = Vec::new();
         // Adaptive sampling splits from PILOT_SHARE spp on; below that it is uniform.
-        for k in if adaptive { tracer::adaptive::PILOT_SHARE.ilog2()..=8 } else { 0..=8 } {
+        let last = if split == 1 { 8 } else { 7 };
+        for k in if adaptive { tracer::adaptive::PILOT_SHARE.ilog2()..=last } else { 0..=last } {
             let spp = 1u32 << k;
             let runs = if spp <= 32 {
                 5
@@ -84,7 +95,7 @@ fn main() {
             let mut best = f64::INFINITY;
             let mut last = None;
             for _ in 0..runs {
-                let r = render(&tracer, camera.as_ref(), &mut LensChain::new(), &settings, &NoProgress)
+                let r = render(tracer, camera.as_ref(), &mut LensChain::new(), &settings, &NoProgress)
                     .expect("render");
                 assert_eq!(r.stats.nonfinite_samples, 0, "{spp} spp: NaN/Inf samples");
                 best = best.min(r.stats.seconds);
@@ -109,12 +120,12 @@ fn main() {
         }
         (rows, crossing)
     };
-    let uniform = series(false);
-    let adaptive = series(true);
+    let all = [series(false, 1), series(true, 1), series(false, SPLIT), series(true, SPLIT)];
 
     let dir = root.join("target/convergence");
     std::fs::create_dir_all(&dir).expect("create target/convergence");
-    for (name, (rows, _)) in [("cornell.csv", &uniform), ("cornell-adaptive.csv", &adaptive)] {
+    let names = ["cornell.csv", "cornell-adaptive.csv", "cornell-split2.csv", "cornell-adaptive-split2.csv"];
+    for (name, (rows, _)) in names.into_iter().zip(&all) {
         let mut csv = String::from("spp,seconds,rel_mse\n");
         for r in rows {
             writeln!(csv, "{},{:.6},{:.6e}", r.spp, r.seconds, r.rel_mse).unwrap();
@@ -122,8 +133,8 @@ fn main() {
         std::fs::write(dir.join(name), csv).expect("write the CSV");
     }
     let png_path = dir.join("cornell.png");
-    plot(&png_path, &uniform, &adaptive).expect("draw the plot");
-    println!("wrote {}/cornell.csv, cornell-adaptive.csv and cornell.png", dir.display());
+    plot(&png_path, &all).expect("draw the plot");
+    println!("wrote {}/{} and cornell.png", dir.display(), names.join(", "));
 }
 
 /// A series of rows and its crossing of the target.
@@ -142,7 +153,7 @@ fn time_to(rows: &[Row], target: f64) -> Option<(f64, f64)> {
     Some((lerp(a.seconds, b.seconds), lerp(a.spp as f64, b.spp as f64)))
 }
 
-fn plot(path: &Path, uniform: &Series, adaptive: &Series) -> Result<(), Box<dyn std::error::Error>> {
+fn plot(path: &Path, all: &[Series; 4]) -> Result<(), Box<dyn std::error::Error>> {
     plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular())
         .map_err(|_| "the bundled DejaVu Sans font did not load")?;
     let root = BitMapBackend::new(path, (1000, 700)).into_drawing_area();
@@ -150,7 +161,7 @@ fn plot(path: &Path, uniform: &Series, adaptive: &Series) -> Result<(), Box<dyn 
 
     let peers = MITSUBA_LLVM.iter().chain(&MITSUBA_SCALAR).chain(std::iter::once(&CYCLES_AT_TARGET));
     let (mut t_lo, mut t_hi, mut e_lo, mut e_hi) = (f64::INFINITY, 0f64, f64::INFINITY, 0f64);
-    let ours: Vec<(f64, f64)> = uniform.0.iter().chain(&adaptive.0).map(|r| (r.seconds, r.rel_mse)).collect();
+    let ours: Vec<(f64, f64)> = all.iter().flat_map(|s| &s.0).map(|r| (r.seconds, r.rel_mse)).collect();
     for &(t, e) in ours.iter().chain(peers) {
         (t_lo, t_hi, e_lo, e_hi) = (t_lo.min(t), t_hi.max(t), e_lo.min(e), e_hi.max(e));
     }
@@ -187,10 +198,13 @@ fn plot(path: &Path, uniform: &Series, adaptive: &Series) -> Result<(), Box<dyn 
         .label(format!("relMSE = {TARGET:.0e}"))
         .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], grey.stroke_width(2)));
 
-    // mcctrace: both series.
-    for ((rows, crossing), colour, name, dy) in [
-        (uniform, RGBColor(200, 40, 40), "mcctrace (1 … 256 spp)", -22),
-        (adaptive, RGBColor(150, 40, 160), "mcctrace adaptive (4 … 256 spp average)", 14),
+    // mcctrace: every series; spp labels only on the first two (the others would overlap).
+    let [uniform, adaptive, split, adaptive_split] = all;
+    for ((rows, crossing), colour, name, dy, labels) in [
+        (uniform, RGBColor(200, 40, 40), "mcctrace (1 … 256 spp)", -22, true),
+        (adaptive, RGBColor(150, 40, 160), "mcctrace adaptive (4 … 256 spp average)", 14, true),
+        (split, RGBColor(230, 120, 110), "mcctrace --split 2 (1 … 128 spp)", -22, false),
+        (adaptive_split, RGBColor(200, 140, 210), "mcctrace adaptive --split 2 (4 … 128 spp)", 14, false),
     ] {
         let points: Vec<(f64, f64)> = rows.iter().map(|r| (r.seconds, r.rel_mse)).collect();
         chart
@@ -199,7 +213,7 @@ fn plot(path: &Path, uniform: &Series, adaptive: &Series) -> Result<(), Box<dyn 
             .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], colour.stroke_width(3)));
         chart.draw_series(points.iter().map(|&p| Circle::new(p, 5, colour.filled())))?;
         // "N spp" beside each point: above left for the uniform series, below for the other.
-        chart.draw_series(rows.iter().map(|r| {
+        chart.draw_series(rows.iter().filter(|_| labels).map(|r| {
             let label = ("sans-serif", 15).into_font().color(&colour);
             EmptyElement::at((r.seconds, r.rel_mse)) + Text::new(format!("{} spp", r.spp), (-62, dy), label)
         }))?;
