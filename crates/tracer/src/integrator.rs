@@ -38,8 +38,11 @@ pub struct IntegratorConfig {
     pub rr_depth: u32,
     /// Paths continued from each camera ray's first hit (first-vertex splitting; 1: none). The
     /// first hit's emission and light sample are taken once; `split` BSDF samples each carry on
-    /// a path of their own with weight 1/`split`. Indirect light, nearly all of a typical
-    /// image's noise, then gets `split` paths per camera ray, traced and shaded once.
+    /// a path of their own with weight 1/`split` (Russian roulette judges each at full weight).
+    /// Where indirect light makes the noise (nearly all of the Cornell box's), it then gets
+    /// `split` paths per camera ray, traced and shaded once; where the camera's own
+    /// dimensions do (textures, depth of field), splitting only adds cost.
+    /// `spp × split` must stay within [`MAX_SAMPLES_PER_PIXEL`] (`render` checks it).
     pub split: u32,
 }
 
@@ -382,7 +385,8 @@ impl PathTracer {
     ///
     /// With first-vertex splitting (`IntegratorConfig::split` = N > 1), branch b of camera
     /// sample i draws every number past the camera's from sample i·N + b of the pixel's sequence
-    /// ([`Sampler::branch`]). Branch 0 runs the whole path; each later one resumes at the first
+    /// ([`Sampler::branch`]; the caller keeps i·N + b below [`MAX_SAMPLES_PER_PIXEL`], as
+    /// `render` does). Branch 0 runs the whole path; each later one resumes at the first
     /// hit, kept from branch 0, and takes neither its emission nor its light sample again. Any
     /// MIS weights that sum to one keep the estimate unbiased, so the first hit's light sample
     /// and its N BSDF samples share the power heuristic of one sample each.
@@ -416,6 +420,7 @@ impl PathTracer {
         let mut sampler = base.branch(split, 0);
         let mut camera_hit: Option<Hit> = None;
         let mut resumed = false;
+        let branch_scale = split as f32;
         'branches: loop {
             loop {
                 let hit = if resumed {
@@ -622,7 +627,10 @@ impl PathTracer {
                 depth += 1;
 
                 if roulette {
-                    let q = (1.0 - beta.max_element()).max(0.0);
+                    // A branch's throughput at full weight (its 1/N left out, ×1 exactly when
+                    // unsplit): with the 1/N in, roulette would end N − 1 of N branches on
+                    // average at its first vertex and undo the split.
+                    let q = (1.0 - beta.max_element() * branch_scale).max(0.0);
                     if decide(1) < q {
                         break;
                     }

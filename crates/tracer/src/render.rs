@@ -29,7 +29,7 @@ pub const MAX_PIXELS: u64 = 1 << 28;
 /// What to render.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RenderSettings {
-    /// Samples per pixel (1 ..= 65536).
+    /// Samples per pixel (1 ..= 65536 / the tracer's first-vertex split).
     pub spp: u32,
     /// Seed of the sample sequence.
     pub seed: u32,
@@ -488,6 +488,15 @@ mod tests {
             assert_eq!(r.stats.samples, 8 * 6 * 4);
             assert_eq!(r.stats.rays, r.stats.samples * (1 + split as u64), "split {split}");
         }
+        // Roulette from the first vertex judges each branch at full weight: a branch's
+        // throughput there is the albedo (0.5), so it survives with probability 1/2 whatever N
+        // (with its 1/N in, 1/(2N): the split undone), and a sample traces 1 + N/2 rays.
+        let tracer = PathTracer::new(&boxed, config.with_rr_depth(1).with_split(4)).unwrap();
+        let r =
+            render(&tracer, inside.as_ref(), &mut LensChain::new(), &RenderSettings::still(64), &NoProgress)
+                .unwrap();
+        let per_sample = r.stats.rays as f64 / r.stats.samples as f64;
+        assert!((per_sample - 3.0).abs() < 0.1, "{per_sample} rays per sample with roulette");
         // The camera outside the box, looking away: every camera ray misses.
         let away = CameraDesc::look_at(
             "away",
@@ -517,6 +526,33 @@ mod tests {
         for split in [0, MAX_SAMPLES_PER_PIXEL + 1] {
             assert!(PathTracer::new(&boxed, config.with_split(split)).is_err(), "split {split}");
         }
+    }
+
+    /// Adaptive sampling keeps every pixel's count within the sampler's range divided by the
+    /// split: with 4096 branches per sample, 16 samples a pixel at most, which is the average
+    /// here, so the noisiest pixels (which would take up to 28) are held to it while the
+    /// quietest still give theirs up.
+    #[test]
+    fn adaptive_counts_stay_in_the_split_range() {
+        let scene = lambert_scene();
+        let tracer =
+            PathTracer::new(&scene, IntegratorConfig::DEFAULT.with_max_depth(2).with_split(4096)).unwrap();
+        let camera = CameraDesc::look_at(
+            "c",
+            Vec3::new(0.5, 1.2, 4.0),
+            Vec3::new(0.0, 0.5, 0.0),
+            Vec3::Y,
+            Projection::Perspective { fov_y: 50f32.to_radians() },
+        )
+        .unwrap()
+        .build(UVec2::new(6, 5))
+        .unwrap();
+        let settings = RenderSettings { adaptive: true, ..RenderSettings::still(16) };
+        let r = render(&tracer, camera.as_ref(), &mut LensChain::new(), &settings, &NoProgress).unwrap();
+        let counts = &r.images.samples.pixels;
+        let most = counts.iter().fold(0.0f32, |m, &n| m.max(n));
+        assert_eq!(most, (MAX_SAMPLES_PER_PIXEL / 4096) as f32, "the cap binds: {counts:?}");
+        assert!(counts.iter().all(|&n| n >= 4.0) && counts.iter().any(|&n| n < 10.0), "{counts:?}");
     }
 
     /// Every level of the tile loop this CPU runs (x86-64-v3 and -v4 builds) gives the same

@@ -66,8 +66,10 @@ impl Sampler {
 
     /// The sampler of branch `branch` of `branches` split from this sample (first-vertex
     /// splitting, `crate::integrator`): index `index · branches + branch` of the same pixel's
-    /// sequence, so a pixel's branches are consecutive points of one Sobol sequence (each run of
-    /// 2^k is stratified) and one branch of one (`branch(1, 0)`) is this sampler itself.
+    /// sequence, so a camera sample's branches are consecutive points of one Sobol sequence (an
+    /// aligned, stratified run when `branches` is a power of two) and one branch of one
+    /// (`branch(1, 0)`) is this sampler itself. The caller keeps the index below
+    /// [`MAX_SAMPLES_PER_PIXEL`] (checked in debug builds only: this is per ray).
     #[inline]
     pub fn branch(&self, branches: u32, branch: u32) -> Self {
         debug_assert!(branch < branches);
