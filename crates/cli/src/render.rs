@@ -92,7 +92,7 @@ pub struct QualityArgs {
     /// Paths continued from each camera ray's first hit (first-vertex splitting): each of the
     /// --spp samples traces N indirect paths. Pays where indirect light makes the noise (the
     /// Cornell box: 2 reaches the same error ≈ 1.1-1.16x sooner); costs where the noise is in
-    /// what the camera sees (textures, depth of field, small lights: the café ≈ 1.3x slower).
+    /// what the camera sees (textures, depth of field, small lights: the café ≈ 1.2x slower).
     #[arg(long, default_value_t = IntegratorConfig::DEFAULT.split, value_name = "N",
           value_parser = clap::value_parser!(u32).range(1..=65536))]
     pub split: u32,
