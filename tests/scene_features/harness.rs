@@ -8,12 +8,14 @@ use tracer::lens::LensChain;
 use tracer::render::{NoProgress, RenderSettings, Rendered};
 use tracer::scene::Scene;
 
+/// Loads a scene, panicking with the loader's message.
 pub(crate) fn load(path: &Path) -> Scene {
     let scene = Scene::load(path).unwrap_or_else(|e| panic!("{e}"));
     assert!(scene.warnings.is_empty(), "unexpected warnings: {:#?}", scene.warnings);
     scene
 }
 
+/// Renders `scene` through `camera` at `size` (seed 7, no lens shaders), checking that no sample is NaN/Inf.
 pub(crate) fn render(scene: &Scene, camera: &CameraDesc, size: UVec2, spp: u32, max_depth: u32) -> Rendered {
     let config = IntegratorConfig::DEFAULT.with_max_depth(max_depth);
     let tracer = PathTracer::new(scene, config).unwrap();
@@ -103,6 +105,21 @@ pub(crate) fn check(what: &str, r: &Rendered, i: u32, j: u32, want: Vec3, rel: f
     worst
 }
 
+/// Asserts that every pixel is the grey `want` of its column within `tol`, both given by
+/// `column(i)`: for renders where every sample is exact (emission seen directly, a directional
+/// light on a plane), so no noise enters the tolerance.
+pub(crate) fn assert_exact_columns(r: &Rendered, column: impl Fn(u32) -> (f32, f32)) {
+    let image = &r.images.image;
+    for j in 0..image.height {
+        for i in 0..image.width {
+            let (want, tol) = column(i);
+            let got = image.get(i, j);
+            assert!((got - Vec3::splat(want)).abs().max_element() < tol, "({i}, {j}): {got} vs {want}");
+        }
+    }
+}
+
+/// The linear value of an sRGB 8-bit code.
 pub(crate) fn srgb(code: u8) -> f32 {
     let s = code as f64 / 255.0;
     (if s <= 0.04045 { s / 12.92 } else { ((s + 0.055) / 1.055).powf(2.4) }) as f32

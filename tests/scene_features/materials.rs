@@ -44,16 +44,10 @@ fn normal_map_tilts_the_cosine_law() {
 
     let cam = Ortho::new(Vec3::new(0.0, 5.0, 0.0), Vec3::ZERO, Vec3::NEG_Z, 1.0, UVec2::new(32, 16));
     let r = render(&scene, &cam.desc, cam.size, 4, 1);
-    for j in 0..16 {
-        for i in 0..32 {
-            let want = if i < 16 { want_left } else { want_right };
-            let got = r.images.image.get(i, j);
-            assert!(
-                (got - Vec3::splat(want)).abs().max_element() < 1e-4 * want,
-                "({i}, {j}): {got} vs {want}"
-            );
-        }
-    }
+    assert_exact_columns(&r, |i| {
+        let want = if i < 16 { want_left } else { want_right };
+        (want, 1e-4 * want)
+    });
 }
 
 /// A leaf: a quad at height 1 over x ∈ [1, 2] whose texture's left half has alpha 0 (cut away
@@ -83,17 +77,8 @@ fn alpha_masked_leaf_casts_a_cut_out_shadow() {
     let cam = Ortho::new(Vec3::new(0.0, 5.0, 0.0), Vec3::ZERO, Vec3::NEG_Z, 1.0, UVec2::splat(32));
     let r = render(&scene, &cam.desc, cam.size, 4, 1);
     let lit = 0.5 / PI * std::f32::consts::FRAC_1_SQRT_2;
-    for j in 0..32 {
-        for i in 0..32 {
-            // Film column i covers world x ∈ [i/16 − 1, (i + 1)/16 − 1).
-            let want = if i >= 24 { 0.0 } else { lit };
-            let got = r.images.image.get(i, j);
-            assert!(
-                (got - Vec3::splat(want)).abs().max_element() < 1e-4 * lit,
-                "({i}, {j}): {got} vs {want}"
-            );
-        }
-    }
+    // Film column i covers world x ∈ [i/16 − 1, (i + 1)/16 − 1).
+    assert_exact_columns(&r, |i| (if i >= 24 { 0.0 } else { lit }, 1e-4 * lit));
 }
 
 /// Refraction through a glass ball (transmission 1, ior 1.5, radius 1) seen by an orthographic
