@@ -340,7 +340,7 @@ impl Collage {
             }
         }
         if !strays.is_empty() && options.strays == StrayPolicy::Refuse {
-            return Err(MccError::StrayPixels { path: path.into(), report: strays });
+            return Err(MccError::StrayPixels { path: path.into(), report: Box::new(strays) });
         }
         Ok((Self { width, height, ids }, strays))
     }

@@ -173,7 +173,7 @@ fn view_camera_name(path: &std::path::Path) -> Option<String> {
     use exr::meta::attribute::AttributeValue;
     let meta = exr::meta::MetaData::read_from_file(path, false).ok()?;
     meta.headers.iter().find_map(|h| {
-        match h.own_attributes.other.iter().find(|(k, _)| k.to_string() == "mcctrace/camera") {
+        match h.own_attributes.other.iter().find(|(k, _)| **k == *"mcctrace/camera") {
             Some((_, AttributeValue::Text(t))) => Some(t.to_string()),
             _ => None,
         }
