@@ -16,6 +16,7 @@
   (gimp-layer-set-opacity group 90)
   (gimp-image-reorder-item img cam2 group 0)
   (gimp-image-insert-layer img cam1 0 0)
+  (gimp-layer-add-alpha cam1)
   (gimp-image-insert-layer img patch 0 0)
   (gimp-image-insert-layer img sketch 0 0)
   (gimp-item-set-visible sketch FALSE)
