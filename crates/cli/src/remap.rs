@@ -8,13 +8,15 @@ use std::path::{Path, PathBuf};
 /// Collage inputs and remapper settings, shared by `remap` and `rerender`.
 #[derive(Args, Debug, Clone)]
 pub struct CollageInputArgs {
-    /// The collage image (8-bit RGB/RGBA cut from the tagged views).
+    /// The collage: an 8-bit RGB/RGBA image cut from the tagged views, or a layered OpenRaster
+    /// (.ora) or Photoshop (.psd) file whose visible layers are named after their cameras.
     #[arg(long)]
     pub collage: Option<PathBuf>,
     /// Directory holding the views' ray files (frameFFFFcameraCC.mcr or .txt).
     #[arg(long)]
     pub rays: Option<PathBuf>,
-    /// Region image (default: <collage-stem>-regions.png beside the collage, if present).
+    /// Region image, or layered file of region layers (default: the collage's "regions" layer
+    /// group, else <collage-stem>-regions.png beside the collage, if present).
     #[arg(long)]
     pub regions: Option<PathBuf>,
     /// How the collage is read and remapped.
@@ -93,6 +95,7 @@ pub fn remap_collage(input: &CollageInputArgs, frame: u32, quiet: bool) -> anyho
     let options = mcc::CollageOptions {
         tag: mcc::TagCode::new(settings.tag_bits)?,
         strays: if settings.ignore_strays { mcc::StrayPolicy::Background } else { mcc::StrayPolicy::Refuse },
+        hints: mcc::StrayHints { ignore: "--ignore-strays", tag_bits: "--tag-bits" },
     };
     let inputs = mcc::remap::RemapInputs {
         collage,

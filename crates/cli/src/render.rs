@@ -195,6 +195,10 @@ pub struct RenderArgs {
     /// in separate runs).
     #[arg(long, default_value_t = 1, value_name = "ID")]
     pub first_id: u32,
+    /// Also write the views as one OpenRaster file, a layer per camera over a black background,
+    /// to cut the collage in a layered editor (Krita, GIMP, MyPaint) and remap it as it is.
+    #[arg(long, value_name = "FILE.ora")]
+    pub layers: Option<PathBuf>,
 }
 
 /// A camera to render, with its view number.
@@ -422,8 +426,12 @@ pub fn run(a: RenderArgs) -> anyhow::Result<()> {
             code.check_id(v.id)?;
         }
     }
+    if let Some(path) = &a.layers {
+        mcc::layers::openraster::check_path(path)?;
+    }
     let outputs = output_paths(&a.out, &views, a.frame)?;
     let tracer = prepare(&mut scene, q)?;
+    let mut layers = Vec::new();
     for (view, exr) in views.iter().zip(&outputs) {
         let camera = build_camera(view, q.resolution(), a.overscan)?;
         let mut lenses = LensChain::new();
@@ -447,6 +455,16 @@ pub fn run(a: RenderArgs) -> anyhow::Result<()> {
         if !q.quiet {
             eprintln!("{}", summary(&view.desc.name, q, &rendered, exr));
         }
+        if a.layers.is_some() {
+            layers.push((view.id, &view.desc.name, mcc::layers::openraster::srgb8(&rendered.images.image)));
+        }
+    }
+    if let Some(path) = &a.layers {
+        let views: Vec<_> = layers
+            .iter()
+            .map(|(id, name, image)| mcc::layers::openraster::ViewLayer { id: *id, name, image })
+            .collect();
+        mcc::layers::openraster::write(path, &views)?;
     }
     Ok(())
 }
