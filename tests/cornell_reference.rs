@@ -12,9 +12,7 @@
 //! materials, so with the same seed (the same random numbers) they must agree far more closely
 //! than two independent renders do.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use tracer::compare::{Estimate, rel_mse, statistical_test};
 use tracer::image::RgbImage;
 use tracer::render::Rendered;

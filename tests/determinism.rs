@@ -15,9 +15,7 @@
 //! same reason it could not matter either. A test forces two opposite schedules (one worker or
 //! the other slowed down) and checks the bits, and that the schedules really differed.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use glam::UVec2;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use tracer::compare::StatTest;

@@ -18,9 +18,7 @@
 //! with near certainty. Cameras: perspective and equirectangular, both at the sphere's centre;
 //! with and without Russian roulette.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use glam::{UVec2, Vec3};
 use tracer::camera::{CameraDesc, Projection};
 use tracer::compare::{StatTest, statistical_test};

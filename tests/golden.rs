@@ -19,10 +19,10 @@
 //! and wide, and the collage in `mcc_pipeline.rs`) the test also proves it: the same render made
 //! 2 % darker must fail against the same golden.
 
-mod common;
-
-use common::golden::{Sampled, assert_darker_fails, check_golden, golden_path, read_golden, write_golden};
-use common::*;
+use crate::common::golden::{
+    Sampled, assert_darker_fails, check_golden, golden_path, read_golden, write_golden,
+};
+use crate::common::*;
 use glam::{UVec2, Vec3};
 use std::f32::consts::PI;
 use std::sync::{Arc, OnceLock};

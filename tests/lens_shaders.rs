@@ -18,9 +18,7 @@
 //!   and "flip, then drop rays pointing left" give two different images, each black on a
 //!   different half and the mirrored scene on the other.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use glam::Vec3;
 use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
 use std::sync::{Arc, OnceLock};

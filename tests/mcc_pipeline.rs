@@ -11,10 +11,8 @@
 //!   mcc_pipeline mixed` re-renders the golden and prints how it changed.
 //! - Malformed inputs give errors naming the file, and leave no output behind.
 
-mod common;
-
-use common::golden::{Sampled, assert_darker_fails, check_golden};
-use common::{Scratch, mcctrace};
+use crate::common::golden::{Sampled, assert_darker_fails, check_golden};
+use crate::common::{Scratch, mcctrace};
 use std::path::Path;
 use tracer::compare::{Estimate, StatTest};
 use tracer::image::RgbImage;

@@ -18,9 +18,7 @@
 //!     Degenerate (point, repeated-vertex, collinear, denormal-sliver) triangles added to the
 //!     Cornell box must change nothing (statistically) and produce no non-finite sample.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use glam::{Affine3A, UVec2, Vec3};
 use std::sync::OnceLock;
 use tracer::camera::{CameraDesc, Projection};

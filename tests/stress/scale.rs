@@ -6,8 +6,8 @@
 //! Reference: the same scene at unit scale, rendered with another seed; the comparison is
 //! `StatTest::between` (per-pixel Šidák z-test plus the image-level bias check, NOTES.md).
 
+use super::scene::{Lighting, Model, camera, showcase, transformed};
 use crate::common::*;
-use crate::scene::{Lighting, Model, camera, showcase, transformed};
 use glam::{UVec2, Vec3};
 use std::sync::OnceLock;
 use tracer::camera::CameraDesc;

@@ -1,6 +1,7 @@
 //! The checks every fuzz target runs, shared by the cargo-fuzz targets (`fuzz/fuzz_targets/`)
-//! and the stable-Rust proptest fallback (`tests/fuzz_properties.rs`, which includes this file by
-//! path). It uses only `std`, `tracer` and `mcc` (and `mcc::image`), the crates both builds have.
+//! and the stable-Rust proptest fallback (`tests/fuzz_properties.rs`): a crate of its own so that
+//! both link it. It uses only `std`, `tracer` and `mcc` (and `mcc::image`), the crates both builds
+//! have.
 //!
 //! The property for every reader: any bytes give `Ok` or `Err`, never a panic, a hang or an
 //! unbounded allocation; and what a reader accepts is self-consistent (the assertions below). A

@@ -14,19 +14,11 @@
 //!
 //! One module per kind of feature; `assets` writes the files, `harness` renders and checks.
 
-#[path = "scene_features/assets.rs"]
 mod assets;
-#[path = "scene_features/blender.rs"]
 mod blender;
-#[path = "scene_features/camera_lists.rs"]
 mod camera_lists;
-#[path = "scene_features/environment.rs"]
 mod environment;
-#[path = "scene_features/harness.rs"]
 mod harness;
-#[path = "scene_features/lights.rs"]
 mod lights;
-#[path = "scene_features/materials.rs"]
 mod materials;
-#[path = "scene_features/textures.rs"]
 mod textures;

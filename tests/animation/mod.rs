@@ -14,9 +14,7 @@
 //! - Scene time: a glTF with an animated node (the mesh, or the camera) renders where the hand-
 //!   computed pose puts it at frame / fps, and `--fps` changes which time is sampled.
 
-mod common;
-
-use common::{Scratch, mcctrace};
+use crate::common::{Scratch, mcctrace};
 use glam::Vec3;
 use mcc::{RayFile, StoredRay};
 use std::path::{Path, PathBuf};
@@ -26,7 +24,6 @@ use tracer::image::RgbImage;
 use tracer::image_io::read_exr;
 
 // Scene time: an animated glTF written here, rendered at several frames and rates.
-#[path = "animation/scene_time.rs"]
 mod scene_time;
 
 const CORNELL: &str = "scenes/cornell/cornell.gltf";

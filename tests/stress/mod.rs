@@ -17,11 +17,6 @@
 //!   zero-area triangles of every material, degenerate tangent frames, denormal and huge
 //!   coordinates: no NaN/Inf sample, ever (`RenderStats::nonfinite_samples`, the film's count).
 
-mod common;
-
-#[path = "stress/nan.rs"]
 mod nan;
-#[path = "stress/scale.rs"]
 mod scale;
-#[path = "stress/scene.rs"]
 mod scene;

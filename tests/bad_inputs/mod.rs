@@ -53,8 +53,8 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
-/// The test the child process runs.
-const CHILD_TEST: &str = "child_process_entry";
+/// The test the child process runs (its path in the suite binary).
+const CHILD_TEST: &str = "bad_inputs::child_process_entry";
 /// Environment variable carrying the child's command line (arguments separated by U+001F).
 const ENV_ARGS: &str = "MCCTRACE_BAD_INPUTS_ARGS";
 /// Environment variable naming the file the child writes its outcome to.
@@ -116,14 +116,9 @@ fn status_kb(field: &str) -> u64 {
         .unwrap_or(0)
 }
 
-// A test crate's root is `tests/bad_inputs.rs`, so its modules are found from `tests/`.
-#[path = "bad_inputs/case.rs"]
 mod case;
-#[path = "bad_inputs/encoders.rs"]
 mod encoders;
-#[path = "bad_inputs/mcc_cases.rs"]
 mod mcc_cases;
-#[path = "bad_inputs/scene_cases.rs"]
 mod scene_cases;
 
 use case::{Case, Expect};
