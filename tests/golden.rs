@@ -8,7 +8,7 @@
 //! Re-bless (prints how each golden changed; a name filter narrows it to some goldens):
 //!
 //! ```sh
-//! UPDATE_GOLDEN=1 cargo test --release -p mcctrace-suite --test golden -- --nocapture
+//! UPDATE_GOLDEN=1 cargo test --release -p mcctrace-suite --test suite -- golden:: --nocapture
 //! ```
 //!
 //! What would fail: any change of the expected image beyond noise — light transport, materials,

@@ -8,7 +8,7 @@
 //! - A mixed collage rerenders like its golden EXR (`tests/data/golden/`), checked by the golden
 //!   suite's machinery (`common/golden.rs`: NOTES.md's statistical test on both images'
 //!   per-sample variances). `UPDATE_GOLDEN=1 cargo test --release -p mcctrace-suite --test
-//!   mcc_pipeline mixed` re-renders the golden and prints how it changed.
+//!   suite -- mcc_pipeline::mixed` re-renders the golden and prints how it changed.
 //! - Malformed inputs give errors naming the file, and leave no output behind.
 
 use crate::common::golden::{Sampled, assert_darker_fails, check_golden};

@@ -1,4 +1,4 @@
-//! The malformed-input corpus (`tests/bad_inputs.rs`): generators of the binary inputs.
+//! The malformed-input corpus (`tests/bad_inputs/`): generators of the binary inputs.
 //! Generators of the binary inputs: tiny hand-written encoders, so every byte is deliberate and
 //! the output never changes with a dependency's version.
 

@@ -124,7 +124,7 @@ pub fn check_golden(
     let golden = read_golden(&path).unwrap_or_else(|e| {
         panic!(
             "golden '{name}' unreadable ({e}); bless it with \
-             UPDATE_GOLDEN=1 cargo test --release -p mcctrace-suite --test <this test> {name}"
+             UPDATE_GOLDEN=1 cargo test --release -p mcctrace-suite --test suite {name}"
         )
     });
     let test = super::timed(&format!("{name}: test render, {test_spp} spp"), || render(test_spp, TEST_SEED));

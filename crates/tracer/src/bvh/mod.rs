@@ -105,7 +105,7 @@ const STACK: usize = 256;
 /// Above this magnitude (2^60 ≈ 1.2e18) the boxes are rescaled before obvhs builds on them.
 /// Its builder works in f32 on surface areas and costs, which overflow for boxes past ~1e19;
 /// the corrupted tree then made it index out of bounds (a scene 1e21 across panicked in
-/// `tests/stress.rs`, `denormal_and_huge_coordinates_give_no_nan`).
+/// `tests/stress/`, `denormal_and_huge_coordinates_give_no_nan`).
 const BUILD_RANGE: f32 = (1u64 << 60) as f32;
 
 /// Builds the CWBVH over `aabbs`. Scenes beyond [`BUILD_RANGE`] are built on their boxes scaled
