@@ -18,9 +18,9 @@ pub fn mse(image: &RgbImage, reference: &RgbImage) -> f64 {
     mean_over_channels(image, reference, |x, r| (x - r) * (x - r))
 }
 
-/// relMSE's regulariser: a squared error is divided by r² + this, so black pixels count their
-/// error against 0.1 rather than divide by zero (adaptive sampling weighs noise the same way).
-pub const REL_MSE_EPSILON: f64 = 0.01;
+// relMSE's regulariser lives with adaptive sampling, which renders use (this module is built for
+// tests and benchmarks only, the `test-support` feature).
+pub use crate::adaptive::REL_MSE_EPSILON;
 
 /// Relative MSE, the Cornell README's convention: mean over pixels *and* channels of
 /// (x − r)² / (r² + 0.01). (pbrt's variant divides by (r + 0.01)²; the numbers differ.)

@@ -228,6 +228,7 @@ impl PathTracer {
     /// Test hook: makes renders take the general path even where the Lambert-only one applies
     /// (tests compare the two, bit for bit).
     #[doc(hidden)]
+    #[cfg(any(test, feature = "test-support"))]
     pub fn without_lambert_path(mut self) -> Self {
         self.lambert_only = false;
         self

@@ -12,6 +12,7 @@ pub mod atomic;
 pub mod bsdf;
 pub mod bvh;
 pub mod camera;
+#[cfg(any(test, feature = "test-support"))]
 pub mod compare;
 pub mod error;
 pub mod film;

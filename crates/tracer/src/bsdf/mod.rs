@@ -128,6 +128,7 @@ impl Bsdf {
     /// The BSDF of `material` at a point with shading normal `ns` and geometric normal `ng`
     /// (both unit, any orientation), seen from world direction `wo`.
     #[inline]
+    #[cfg(any(test, feature = "test-support"))]
     pub fn new(material: &Material, ns: Vec3, ng: Vec3, wo: Vec3) -> Self {
         Self::with_frame(&BsdfParams::of(material), Frame::from_z(ns), ng, wo)
     }

@@ -9,6 +9,7 @@
 //! v4 (32 vector registers, so fewer spills) ≈ 2 % more (`docs/performance.md`).
 
 use super::{PixelAccumulator, TileJob};
+#[cfg(test)]
 use std::sync::atomic::{AtomicU8, Ordering};
 
 /// An instruction-set level the tile loop is compiled for.
@@ -22,16 +23,21 @@ pub(super) enum Level {
     V4 = 2,
 }
 
-/// The highest level renders may use (tests lower it to compare the levels).
+/// The highest level renders may use; unit tests lower it to compare the levels (the crate's
+/// own tests only: nothing else can reach it, so it exists only in their build).
+#[cfg(test)]
 pub(super) static CAP: AtomicU8 = AtomicU8::new(Level::V4 as u8);
 
-/// The best level this CPU runs, at most [`CAP`].
+/// The best level this CPU runs (in unit tests, at most [`CAP`]).
 pub(super) fn level() -> Level {
+    #[cfg(test)]
     let cap = match CAP.load(Ordering::Relaxed) {
         0 => Level::Baseline,
         1 => Level::V3,
         _ => Level::V4,
     };
+    #[cfg(not(test))]
+    let cap = Level::V4;
     detected().min(cap)
 }
 
