@@ -1,4 +1,5 @@
-//! Remapper, ray-file and lens-reader speed, and the remapper's peak memory (SPEC §5, §4, §6).
+//! Remapper, ray-file and lens-reader speed, and the remapper's peak memory (docs/design.md §5,
+//! §4.2, §6).
 //!
 //! `cargo bench --bench remap` prints one table. Everything is synthetic and deterministic:
 //! cameras on a circle around the origin (some facing each other), elliptical blobs of each

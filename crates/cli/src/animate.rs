@@ -1,4 +1,4 @@
-//! `mcctrace animate`: render a shot through per-frame ray files (SPEC §6 lens reader, §8
+//! `mcctrace animate`: render a shot through per-frame ray files (docs/design.md §6 lens reader, §8
 //! workflow). Every frame is an independent unit of work: `--frames` takes any sub-range, and a
 //! frame whose EXR and PNG are both in the output folder is skipped (both are written atomically,
 //! so an existing file is complete), so a crashed run resumes and a render farm's job array can

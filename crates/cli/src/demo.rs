@@ -1,5 +1,5 @@
-//! `mcctrace demo`: the main job on the bundled café scene (SPEC §8's workflow end to end):
-//! render the two facing views with the lens writer and tagger, compose the bundled collage
+//! `mcctrace demo`: the main job on the bundled café scene (docs/design.md §8's workflow end to
+//! end): render the two facing views with the lens writer and tagger, compose the bundled collage
 //! mask, remap it (with its region image), rerender, and write every picture to one folder.
 
 use crate::args::Resolution;
@@ -98,7 +98,8 @@ pub(crate) struct DemoView {
 }
 
 /// Renders `views` of the scene at `frame` into `views_dir` with the lens writer and tagger
-/// (EXR, tagged PNG and rays under SPEC §4 names); returns (caption, tagged PNG) per view.
+/// (EXR, tagged PNG and rays under docs/design.md §4.3 names); returns (caption, tagged PNG) per
+/// view.
 pub(crate) fn render_tagged_views(
     scene_path: &Path,
     views: &[DemoView],

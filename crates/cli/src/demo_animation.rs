@@ -1,9 +1,9 @@
-//! `mcctrace demo --animation`: the column's keyframe workflow (SPEC §5–8) on the bundled café,
-//! end to end: two key frames, each with its own pair of cameras and its own collage, remapped
-//! and in-betweened (`keys`) into one ray file per frame, rendered frame by frame (`animate`), and
-//! a preview GIF. Key 0 is the plain demo's collage (cameras `left` and `right`, the bundled mask
-//! and regions); the last key uses the scene's `wide` camera and an ad-hoc camera by the window,
-//! cut by a mask generated here.
+//! `mcctrace demo --animation`: the column's keyframe workflow (docs/design.md §5–8) on the bundled
+//! café, end to end: two key frames, each with its own pair of cameras and its own collage,
+//! remapped and in-betweened (`keys`) into one ray file per frame, rendered frame by frame
+//! (`animate`), and a preview GIF. Key 0 is the plain demo's collage (cameras `left` and `right`,
+//! the bundled mask and regions); the last key uses the scene's `wide` camera and an ad-hoc camera
+//! by the window, cut by a mask generated here.
 
 use crate::animate::{AnimateArgs, PreviewArg, animate};
 use crate::args::{FrameRange, Resolution};

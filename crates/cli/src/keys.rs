@@ -1,6 +1,7 @@
-//! `mcctrace keys`: the column's keyframe workflow in one go (SPEC §5, §7, §8): one collage per
-//! key frame, each remapped against that frame's source views (`frameFFFFcameraCC.mcr`, SPEC
-//! §4) by the remap command's own code path, then in-betweened into one ray file per frame.
+//! `mcctrace keys`: the column's keyframe workflow in one go (docs/design.md §5, §7, §8): one
+//! collage per key frame, each remapped against that frame's source views (`frameFFFFcameraCC.mcr`,
+//! docs/design.md §4.3) by the remap command's own code path, then in-betweened into one ray file
+//! per frame.
 
 use crate::args::KeyArg;
 use crate::inbetween::{InbetweenOutputArgs, write_inbetweens};

@@ -1,5 +1,5 @@
-//! The `mcctrace` command line (SPEC §8): parses arguments, reports progress and errors, and
-//! calls the `tracer` and `mcc` libraries. Nothing here renders or remaps by itself.
+//! The `mcctrace` command line (docs/design.md §8): parses arguments, reports progress and errors,
+//! and calls the `tracer` and `mcc` libraries. Nothing here renders or remaps by itself.
 
 mod animate;
 mod args;

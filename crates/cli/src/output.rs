@@ -12,7 +12,8 @@ use tracer::render::Rendered;
 pub enum Png {
     /// The sRGB preview.
     Preview,
-    /// The sRGB preview with the view's camera number in the low bits (SPEC §4, the tagger).
+    /// The sRGB preview with the view's camera number in the low bits (docs/design.md §4.4, the
+    /// tagger).
     Tagged {
         /// The tag code.
         code: mcc::TagCode,

@@ -1,5 +1,5 @@
-//! `mcctrace remap`: the lens remapper (SPEC §5): a collage and the views' ray files in, one ray
-//! per pixel out.
+//! `mcctrace remap`: the lens remapper (docs/design.md §5): a collage and the views' ray files in,
+//! one ray per pixel out.
 
 use crate::render::RayFormatArg;
 use clap::Args;

@@ -1,4 +1,4 @@
-//! `mcctrace render`: render a scene from one or more cameras (SPEC §3, §8).
+//! `mcctrace render`: render a scene from one or more cameras (docs/design.md §3, §8).
 
 use crate::args::{Resolution, Vec3Arg};
 use crate::output::{Png, RenderInfo, write_render};
@@ -380,8 +380,8 @@ pub fn summary(name: &str, q: &QualityArgs, r: &Rendered, out: &Path) -> String 
     )
 }
 
-/// Where each view's EXR goes: `out` itself for one view and an .exr path, else SPEC names in
-/// the directory `out`.
+/// Where each view's EXR goes: `out` itself for one view and an .exr path, else docs/design.md §4.3
+/// names in the directory `out`.
 pub fn output_paths(out: &Path, views: &[View], frame: u32) -> anyhow::Result<Vec<PathBuf>> {
     let is_file = out.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr"));
     if is_file {

@@ -1,5 +1,5 @@
-//! `mcctrace rerender`: the lens reader (SPEC §6, §8): remap a collage (or take a ready ray
-//! file) and render the scene with one ray per pixel from it, at any output resolution.
+//! `mcctrace rerender`: the lens reader (docs/design.md §6, §8): remap a collage (or take a ready
+//! ray file) and render the scene with one ray per pixel from it, at any output resolution.
 
 use crate::args::Resolution;
 use crate::output::{Png, RenderInfo, write_render};
@@ -130,7 +130,7 @@ pub fn run(a: RerenderArgs) -> anyhow::Result<()> {
     let Some(path) = &a.lens else {
         let output = remap_collage(&a.input, a.frame, q.quiet)?;
         // The remapped rays are saved only once the render has succeeded: a run that fails
-        // (a bad --crop, --spp, scene …) leaves no output behind (SPEC §8).
+        // (a bad --crop, --spp, scene …) leaves no output behind (docs/design.md §8).
         render_with_rays(&a.scene, output.rays.clone(), q.res, a.crop, &a.out, q, a.frame, a.fps)?;
         let dir = a.out.parent().map(Path::to_path_buf).unwrap_or_default();
         let saved = dir.join(mcc::names::rerender_name(a.frame, a.ray_format.into()));

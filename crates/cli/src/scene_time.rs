@@ -1,5 +1,5 @@
-//! Scene time (SPEC §3 scenes, §8 workflow): an animated glTF scene is posed at frame / fps
-//! seconds for every command that renders; a static scene is used as loaded (no rebuild).
+//! Scene time (docs/design.md §3.1 scenes, §8 workflow): an animated glTF scene is posed at frame /
+//! fps seconds for every command that renders; a static scene is used as loaded (no rebuild).
 
 use anyhow::{Context, bail};
 use tracer::scene::Scene;

@@ -1,9 +1,10 @@
-//! The in-betweener (SPEC §7): keyframe ray files in, one ray file per animation frame out.
+//! The in-betweener (docs/design.md §7): keyframe ray files in, one ray file per animation frame
+//! out.
 //!
 //! Keys are (frame, ray file) pairs. Every key is first brought to the output resolution (given,
-//! or the earliest key's) with the lens reader's rule ([`RaySampler`], SPEC §6: a key already at
-//! that size is kept bit for bit); keys need share no cameras, they are only rays. A frame's ray
-//! at pixel p is then interpolated from the keys' rays at p:
+//! or the earliest key's) with the lens reader's rule ([`RaySampler`], docs/design.md §6: a key
+//! already at that size is kept bit for bit); keys need share no cameras, they are only rays. A
+//! frame's ray at pixel p is then interpolated from the keys' rays at p:
 //!
 //! * **at a key** the key's ray, bit for bit; **before the first / after the last key** the
 //!   nearest key's, bit for bit (the animation holds);
@@ -444,8 +445,9 @@ fn rename(e: MccError, what: String) -> MccError {
     }
 }
 
-/// The rays of `file` at `resolution` by the lens reader's rule (SPEC §6), sampled at the output
-/// pixel centres; a file already at that size is returned as it is (the rule is exact there).
+/// The rays of `file` at `resolution` by the lens reader's rule (docs/design.md §6), sampled at the
+/// output pixel centres; a file already at that size is returned as it is (the rule is exact
+/// there).
 fn resample(file: RayFile, resolution: UVec2) -> Result<Vec<StoredRay>> {
     if (file.width, file.height) == (resolution.x, resolution.y) {
         return Ok(file.rays);

@@ -1,4 +1,4 @@
-//! Tests of the lens reader (SPEC §6).
+//! Tests of the lens reader (docs/design.md §6).
 
 use super::*;
 use crate::names::rerender_name;
@@ -177,7 +177,8 @@ fn in_memory_rays_at_another_resolution() {
 
 #[test]
 fn fused_blend_matches_the_nested_slerps() {
-    // Close neighbours (a smooth camera): the fused path is taken; compare with SPEC §6's form.
+    // Close neighbours (a smooth camera): the fused path is taken; compare with docs/design.md §6's
+    // form.
     let (w, h) = (40, 30);
     let rays = (0..w * h)
         .map(|p| {

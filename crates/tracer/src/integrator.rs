@@ -1,4 +1,4 @@
-//! Unidirectional path tracing (SPEC §3, "Integrator"; pbrt-v4 §13.4 `PathIntegrator`): at each
+//! Unidirectional path tracing (docs/design.md §3.3; pbrt-v4 §13.4 `PathIntegrator`): at each
 //! scattering vertex, next-event estimation towards one light chosen by power, plus a BSDF
 //! sample that continues the path; both estimators of direct light (emissive triangles, the
 //! environment image) are combined by multiple importance sampling with the power heuristic.

@@ -1,4 +1,4 @@
-//! The lens remapper (SPEC §5, normative): turns a decoded collage, its regions and the views' ray
+//! The lens remapper (docs/design.md §5): turns a decoded collage, its regions and the views' ray
 //! files into one ray per pixel. Camera pixels keep their camera's ray bit for bit; background
 //! pixels get a ray blended from the nearest edge pixels of every camera:
 //!
@@ -32,7 +32,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-/// Remapper settings (SPEC §5.4); [`RemapConfig::GLASSNER`] is the default.
+/// Remapper settings (docs/design.md §5.4); [`RemapConfig::GLASSNER`] is the default.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RemapConfig {
     /// Radius of the first box blur (step 4a); 0 skips it.
@@ -200,7 +200,7 @@ pub fn remap(
     remap_sources(collage, regions, &SourceRays::gather(collage, files)?, frame, config)
 }
 
-/// Remaps a collage (SPEC §5): the returned rays are frame `frame`'s rerender rays.
+/// Remaps a collage (docs/design.md §5): the returned rays are frame `frame`'s rerender rays.
 pub fn remap_sources(
     collage: &Collage,
     regions: &Regions,

@@ -1,4 +1,4 @@
-//! End-to-end tests of the remapper (SPEC §5) on small collages.
+//! End-to-end tests of the remapper (docs/design.md §5) on small collages.
 
 use super::*;
 use crate::test_util::{Rng, scratch_dir};
