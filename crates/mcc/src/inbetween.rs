@@ -62,7 +62,8 @@
 //! that LLVM vectorises (SSE2, or AVX2 where the CPU has it, chosen at run time; no FMA, so both
 //! give the same bits). Each pixel is a pure function of the key data and the frame: the bits do
 //! not depend on the thread count. Linear frames call the crate's scalar [`crate::slerp::slerp`]
-//! per pixel and cost about twice as much as smooth ones.
+//! per pixel, so they are slower than smooth ones
+//! (docs/performance.md, ledger: "vectorised smooth in-between").
 
 mod kernel;
 #[cfg(test)]
@@ -265,7 +266,8 @@ impl Keys {
     }
 
     /// [`Keys::frame`] into an existing ray file, reusing its ray buffer when it has the right
-    /// size (a fresh 1080p buffer costs page faults worth a third of a frame).
+    /// size (a fresh buffer costs its page faults again:
+    /// docs/performance.md, ledger: "in-between buffer reuse").
     pub fn frame_into(&self, frame: u32, mode: InbetweenMode, out: &mut RayFile) {
         let n = self.width as usize * self.height as usize;
         if out.rays.len() != n {

@@ -12,8 +12,8 @@
 //! Memory: a camera pixel only ever needs its own camera's ray, and e_c(P) is always a pixel of
 //! camera c, so the remapper keeps a single merged plane of source rays ([`SourceRays`]: R_id(p)(p)
 //! at every camera pixel) instead of every camera's file; [`SourceRays::load`] reads the files one
-//! at a time. Per camera it holds one u32 plane (e_c) and one f32 weight plane; a 4K collage with 16
-//! cameras peaks at about 1.5 GiB (measured by `benches/remap.rs`).
+//! at a time. Per camera it holds one u32 plane (e_c) and one f32 weight plane (peak memory:
+//! `benches/remap.rs`; docs/performance.md, ledger: "merged source-ray plane").
 
 pub mod burp;
 pub mod debug;
