@@ -2,19 +2,19 @@
 //! materials, cameras, punctual lights and the environment. Loaders: `gltf` (glTF 2.0, .gltf and
 //! .glb) and `obj` (OBJ/MTL; a directory or list of OBJ files is one scene). The acceleration
 //! structure and light sampling structures are built from a `Scene` by `crate::integrator`.
-//! An animated glTF scene keeps its node hierarchy and keyframes (`animation`); [`Scene::at_time`]
+//! An animated glTF scene keeps its node hierarchy and keyframes (`rig`); [`Scene::at_time`]
 //! flattens it again at any time.
 
-mod animation;
 pub mod camera_list;
 mod environment;
 mod gltf;
 mod images;
 mod mesh;
 mod obj;
+mod rig;
 
-pub use animation::SceneAnimation;
 pub use mesh::{Mesh, MeshExtras, MeshPart};
+pub use rig::SceneAnimation;
 
 use crate::camera::CameraDesc;
 use crate::error::{Result, TracerError};

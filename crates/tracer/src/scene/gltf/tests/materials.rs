@@ -3,7 +3,7 @@
 //! `KHR_texture_transform`, tangents, alpha modes, transmission and ior, spot and directional
 //! lights; and every bad input's warning or error.
 
-use super::tests::{Builder, TRIANGLE, base64, expect_error, glb, load_json};
+use super::{Builder, TRIANGLE, base64, expect_error, glb, load_json};
 use crate::material::AlphaMode;
 use crate::scene::gltf::tests::TempDir;
 use crate::scene::{PunctualLight, SpotFalloff};

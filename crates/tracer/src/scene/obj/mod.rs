@@ -31,12 +31,11 @@
 //! A missing MTL file, an unknown material name, a missing or undecodable texture and an unknown
 //! OBJ statement are warnings (the surface gets [`Material::default()`], the slot is left empty,
 //! the line is skipped): the geometry is still worth rendering. A **malformed** MTL value (`Kd`
-//! with two numbers, `Ns x`, a NaN) is an error naming the MTL file and line (`obj_text`): the
+//! with two numbers, `Ns x`, a NaN) is an error naming the MTL file and line (`precheck`): the
 //! file says something definite that cannot be read, and a silently grey surface would hide it.
 //! An OBJ without faces is an error: there is nothing to render.
 
-#[path = "obj_text.rs"]
-mod obj_text;
+mod precheck;
 
 use super::images::{self, ColorSpace};
 use super::{MeshPart, Scene};
@@ -116,7 +115,7 @@ impl Loader {
 
     fn load(&mut self, path: &Path) -> Result<()> {
         let bytes = std::fs::read(path).map_err(|e| TracerError::io(path, e))?;
-        obj_text::check_faces(&bytes).map_err(|m| TracerError::scene(path, format!("malformed OBJ: {m}")))?;
+        precheck::check_faces(&bytes).map_err(|m| TracerError::scene(path, format!("malformed OBJ: {m}")))?;
         let dir = path.parent().unwrap_or(Path::new("."));
         // tobj's material callback is `Fn`: it records what it loaded and what failed here.
         let libraries = RefCell::new(Vec::<Library>::new());
@@ -127,11 +126,11 @@ impl Loader {
             let file = dir.join(name);
             let result = match std::fs::read(&file) {
                 Ok(text) => {
-                    // The pre-scan refuses what would panic tobj (module docs of `obj_text`).
-                    let parsed = obj_text::prescan_mtl(&text).and_then(|text| {
+                    // The pre-scan refuses what would panic tobj (module docs of `precheck`).
+                    let parsed = precheck::prescan_mtl(&text).and_then(|text| {
                         tobj::load_mtl_buf(&mut &text[..]).map_err(|e| {
                             let fails = |p: &[u8]| tobj::load_mtl_buf(&mut &p[..]).is_err();
-                            match obj_text::failing_line(&text, fails) {
+                            match precheck::failing_line(&text, fails) {
                                 Some(l) => format!("line {l}: malformed MTL: {e}"),
                                 None => format!("malformed MTL: {e}"),
                             }
@@ -160,14 +159,14 @@ impl Loader {
                 tobj::load_obj_buf(&mut &prefix[..], &options(), no_mtl).is_err()
             };
             let at =
-                obj_text::failing_line(&bytes, fails).map_or_else(String::new, |l| format!(" at line {l}"));
+                precheck::failing_line(&bytes, fails).map_or_else(String::new, |l| format!(" at line {l}"));
             TracerError::scene(path, format!("malformed OBJ{at}: {e}"))
         })?;
         if let Some((mtl, message)) = malformed.take().into_iter().next() {
             let message = format!("{message} (material library of {})", path.display());
             return Err(TracerError::scene(mtl, message));
         }
-        for warning in obj_text::unknown_statements(&bytes) {
+        for warning in precheck::unknown_statements(&bytes) {
             self.warn(path, warning);
         }
         for failure in failures.take() {
@@ -597,5 +596,4 @@ fn convert(m: &tobj::Material) -> Converted {
 }
 
 #[cfg(test)]
-#[path = "obj_tests.rs"]
 mod tests;

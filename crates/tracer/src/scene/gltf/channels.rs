@@ -4,7 +4,7 @@
 //! nodes outside the rendered scene are checked, then dropped.
 
 use super::{accessor, node_label};
-use crate::scene::animation::{Channel, Interpolation, Pose, Property, Rig};
+use crate::scene::rig::{Channel, Interpolation, Pose, Property, Rig};
 use gltf::json::animation::{Interpolation as GltfInterpolation, Property as GltfProperty};
 use gltf::json::validation::Checked;
 use std::collections::HashMap;

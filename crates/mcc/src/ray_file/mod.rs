@@ -545,5 +545,4 @@ fn parse_text(bytes: &[u8], path: &Path) -> Result<RayFile> {
 }
 
 #[cfg(test)]
-#[path = "ray_file_tests.rs"]
 mod tests;

@@ -3,7 +3,7 @@
 //! `Scene::load` against `at_time(0)`, static scenes, warnings, every malformed-animation error,
 //! and re-flattening the café.
 
-use super::tests::{Builder, TRIANGLE, TempDir, cornell_dir, expect_error, load_json};
+use super::{Builder, TRIANGLE, TempDir, cornell_dir, expect_error, load_json};
 use crate::camera::Projection;
 use crate::scene::{PunctualLight, Scene, SpotFalloff};
 use glam::{Quat, Vec3};
@@ -433,7 +433,7 @@ fn scene_animation_malformed_errors_name_file_animation_channel_and_key() {
 fn scene_animation_cafe_reflattens_identically_and_quickly() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cafe/cafe.gltf");
     let loaded = Scene::load(&path).unwrap();
-    let rigged = super::load_with(&path, true).unwrap();
+    let rigged = super::super::load_with(&path, true).unwrap();
     assert_eq!(rigged.animation.as_ref().map(|a| a.channel_count()), Some(0));
     assert!(loaded.animation.is_none());
     let mut best = f64::INFINITY;

@@ -378,5 +378,4 @@ fn exr_to_io(error: exr::error::Error) -> std::io::Error {
 }
 
 #[cfg(test)]
-#[path = "exr_tests.rs"]
 mod tests;

@@ -1,4 +1,4 @@
-//! Tests of the OBJ/MTL loader (`obj.rs`).
+//! Tests of the OBJ/MTL loader (`obj/mod.rs`).
 
 use super::super::Scene;
 use super::super::gltf::tests::{TempDir, cornell_dir};

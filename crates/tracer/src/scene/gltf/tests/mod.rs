@@ -2,6 +2,9 @@
 //! containers, node transforms, primitive modes, lights, and every malformed-file error. The
 //! helpers (`TempDir`, `Builder`) are shared with the OBJ tests.
 
+mod channels;
+mod materials;
+
 use super::super::{CameraSelector, PunctualLight, Scene};
 use crate::camera::{CameraDesc, CameraSample, Projection};
 use crate::error::TracerError;
