@@ -52,6 +52,18 @@ pub enum MccError {
         /// How many, which ids, and where the first few are.
         report: StrayReport,
     },
+    /// A layered collage (OpenRaster, PSD) is malformed or uses what this reader does not
+    /// support; `entry` says where: an archive entry (`stack.xml`, `data/layer1.png`), a layer
+    /// (`layer "left (camera 1)"`) or a part of the file (`layer records`).
+    #[error("{}: {entry}: {message}", path.display())]
+    Layered {
+        /// The layered file.
+        path: PathBuf,
+        /// The entry, layer or part at fault.
+        entry: String,
+        /// What is wrong with it.
+        message: String,
+    },
     /// Two inputs that must have the same resolution do not.
     #[error("{}: {what} is {}x{}, but {expected_from} is {}x{}", path.display(), found.0, found.1, expected.0, expected.1)]
     SizeMismatch {
@@ -132,6 +144,11 @@ impl MccError {
     /// Shorthand for an image error about `path`.
     pub fn image(path: impl Into<PathBuf>, message: impl Into<String>) -> Self {
         Self::Image { path: path.into(), message: message.into() }
+    }
+
+    /// Shorthand for an error about `entry` of the layered file at `path`.
+    pub fn layered(path: impl Into<PathBuf>, entry: impl Into<String>, message: impl Into<String>) -> Self {
+        Self::Layered { path: path.into(), entry: entry.into(), message: message.into() }
     }
 
     /// Shorthand for a whole-file ray-file error about `path`.

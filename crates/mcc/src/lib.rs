@@ -8,6 +8,7 @@ pub mod collage;
 pub mod compose;
 pub mod error;
 pub mod inbetween;
+pub mod layers;
 pub mod lens_reader;
 pub mod lens_writer;
 pub mod names;
@@ -25,7 +26,7 @@ mod test_util;
 /// callers name the same types.
 pub use image;
 
-pub use collage::{Collage, CollageOptions, StrayPolicy, StrayReport};
+pub use collage::{Collage, CollageOptions, StrayHints, StrayPolicy, StrayReport};
 pub use error::{MccError, Result};
 pub use inbetween::{InbetweenMode, Keys};
 pub use lens_reader::LensReader;

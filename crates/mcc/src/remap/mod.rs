@@ -26,6 +26,7 @@ pub use debug::RemapDebug;
 
 use crate::collage::{Collage, CollageOptions, StrayReport};
 use crate::error::{MccError, Result};
+use crate::layers::{CameraNames, open_collage};
 use crate::ray_file::{RayFile, StoredRay};
 use crate::regions::{RegionInfo, Regions};
 use std::collections::{BTreeMap, BTreeSet};
@@ -83,6 +84,8 @@ pub enum RemapWarning {
     },
     /// Stray collage pixels were treated as background (by request).
     StraysIgnored(StrayReport),
+    /// Something about a layered collage's layers (e.g. one too transparent to take a pixel).
+    Layers(String),
 }
 
 impl fmt::Display for RemapWarning {
@@ -94,6 +97,7 @@ impl fmt::Display for RemapWarning {
                  blend all cameras"
             ),
             Self::StraysIgnored(report) => write!(f, "treated as background: {report}"),
+            Self::Layers(note) => write!(f, "{note}"),
         }
     }
 }
@@ -267,9 +271,10 @@ pub fn remap_sources(
 /// Everything [`remap_files`] reads.
 #[derive(Clone, Debug)]
 pub struct RemapInputs<'a> {
-    /// The collage image.
+    /// The collage: a tagged image, or a layered file (OpenRaster, PSD: `crate::layers`).
     pub collage: &'a Path,
-    /// The region image; `None` looks for `<collage-stem>-regions.png` beside the collage.
+    /// The region image (an image or a layered file); `None` takes the collage's `regions`
+    /// group, else `<collage-stem>-regions.png` beside the collage.
     pub regions: Option<&'a Path>,
     /// The directory holding the views' ray files (`frameFFFFcameraCC.{mcr|txt}`).
     pub rays_dir: &'a Path,
@@ -279,8 +284,8 @@ pub struct RemapInputs<'a> {
     pub collage_options: CollageOptions,
 }
 
-/// The whole remap stage from files: finds the frame's ray files, decodes the collage against
-/// them, finds the regions, loads the rays one file at a time and remaps. Stray pixels treated as
+/// The whole remap stage from files: finds the frame's ray files, reads the collage (by its
+/// content: a tagged image or a layered file, [`open_collage`]) against them, finds the regions, loads the rays one file at a time and remaps. Stray pixels treated as
 /// background come back as a warning.
 pub fn remap_files(inputs: &RemapInputs<'_>, config: &RemapConfig) -> Result<RemapOutput> {
     config.validate()?;
@@ -296,13 +301,18 @@ pub fn remap_files(inputs: &RemapInputs<'_>, config: &RemapConfig) -> Result<Rem
         });
     }
     let known: BTreeSet<u32> = paths.keys().copied().collect();
-    let (collage, strays) = Collage::load(inputs.collage, Some(&known), inputs.collage_options)?;
-    let (regions, _) = Regions::find(inputs.collage, inputs.regions, collage.width, collage.height)?;
-    let sources = SourceRays::load(&collage, &paths)?;
-    let mut output = remap_sources(&collage, &regions, &sources, inputs.frame, config)?;
-    if !strays.is_empty() {
-        output.warnings.insert(0, RemapWarning::StraysIgnored(strays));
+    // A tagged image, or a layered file whose layers name their cameras (by id, or by the
+    // names the views' EXR headers record).
+    let names = CameraNames::from_views(known, inputs.rays_dir, inputs.frame);
+    let opened = open_collage(inputs.collage, inputs.regions, &names, inputs.collage_options)?;
+    let sources = SourceRays::load(&opened.collage, &paths)?;
+    let mut output = remap_sources(&opened.collage, &opened.regions, &sources, inputs.frame, config)?;
+    let mut first = Vec::new();
+    if !opened.strays.is_empty() {
+        first.push(RemapWarning::StraysIgnored(opened.strays));
     }
+    first.extend(opened.notes.into_iter().map(RemapWarning::Layers));
+    output.warnings.splice(0..0, first);
     Ok(output)
 }
 

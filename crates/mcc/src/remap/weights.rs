@@ -69,7 +69,7 @@ pub(crate) fn participants(
             if background[r] > 0 {
                 warnings.push(RemapWarning::RegionWithoutCameras {
                     region: r as u32,
-                    info: regions.info[r],
+                    info: regions.info[r].clone(),
                     background_pixels: background[r],
                 });
             }
