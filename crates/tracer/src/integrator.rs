@@ -14,7 +14,7 @@
 //! stratified in 4-D. One-dimensional decisions (lobe choice, roulette) are drawn only where a
 //! material has two lobes or roulette is active.
 
-use crate::bsdf::dielectric;
+use crate::bsdf::dielectric::Dielectric;
 use crate::bsdf::{Bsdf, BsdfParams};
 use crate::bvh::{Bvh, Hit, Leaving};
 use crate::error::{Result, TracerError};
@@ -488,35 +488,13 @@ impl PathTracer {
                     !LAMBERT && glass_weight > 0.0 && (glass_weight >= 1.0 || decide(2) < glass_weight);
                 if glass {
                     // A smooth dielectric interface: reflect or refract by Fresnel.
-                    let entering = si.n_geom.dot(wo) > 0.0;
-                    let mut n = if sp.normal.dot(si.n_geom) < 0.0 { -sp.normal } else { sp.normal };
-                    let mut eta = material.ior;
-                    if !entering {
-                        n = -n;
-                        eta = 1.0 / eta;
-                    }
-                    let cos_o = n.dot(wo).max(1e-6);
-                    let fresnel = dielectric::fresnel(cos_o, eta);
-                    let (wi, weight) = if decide(3) < fresnel {
-                        (2.0 * cos_o * n - wo, Vec3::ONE)
-                    } else {
-                        match dielectric::refract(wo, n, eta) {
-                            // Radiance is compressed by η² crossing into the denser side.
-                            Some(wi) => (wi, sp.base_color / (eta * eta)),
-                            None => (2.0 * cos_o * n - wo, Vec3::ONE),
-                        }
-                    };
-                    // The new direction must leave on the side its event says (reflection on wo's
-                    // side of the geometry, refraction on the other), or the shading normal lied.
-                    let reflected = wi.dot(n) > 0.0;
-                    if (wi.dot(si.n_geom) > 0.0) != (entering == reflected) {
-                        break;
-                    }
-                    beta *= weight;
+                    let lobe = Dielectric::new(sp.normal, si.n_geom, wo, material.ior, sp.base_color);
+                    let Some(s) = lobe.sample(decide(3)) else { break };
+                    beta *= s.weight;
                     specular_bounce = true;
                     let [_, _, l0, l1] = sampler.get(sets::vertex(depth));
                     u_light = Vec2::new(l0, l1);
-                    ray = si.spawn_ray(wi, ray.time);
+                    ray = si.spawn_ray(s.wi, ray.time);
                 } else {
                     let bsdf = if LAMBERT {
                         Bsdf::lambert(sp.base_color, si.shading, si.n_geom, wo)

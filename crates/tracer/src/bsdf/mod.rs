@@ -14,8 +14,8 @@
 //!
 //! Surfaces are two-sided: the frame faces wo's side of the geometric normal, and only
 //! reflection on that side is non-zero (no light through an opaque surface via shading normals).
-//! Transmission (glass) is a separate delta interface, `dielectric.rs`, chosen by the
-//! integrator in proportion to the material's transmission factor.
+//! Transmission (glass) is a separate delta interface, [`dielectric::Dielectric`], chosen by
+//! the integrator in proportion to the material's transmission factor.
 
 pub mod compensation;
 pub mod dielectric;
