@@ -47,9 +47,9 @@ pub struct IntegratorConfig {
 }
 
 impl IntegratorConfig {
-    /// A general-purpose default: 8 scattering vertices, roulette after 5. (Roulette after 3
-    /// cost the Cornell box 32 % more relMSE for 4 % less time: throughput-based roulette
-    /// only pays on long paths.)
+    /// A general-purpose default: 8 scattering vertices, roulette after 5. (Throughput-based
+    /// roulette only pays on long paths: from depth 3 it cost the Cornell box more noise than
+    /// it saved time; docs/performance.md, ledger.)
     pub const DEFAULT: Self = Self { max_depth: 8, rr_depth: 5, split: 1 };
 
     /// The same configuration with another maximum depth.
@@ -219,8 +219,7 @@ impl PathTracer {
     /// emissive triangles alone (the Cornell box's class of scene). Renders then take
     /// [`PathTracer::radiance`] with `LAMBERT`, which leaves out what such scenes lack (vertex
     /// normals, textures, glass, the specular lobe's set-up, other kinds of light) and gives
-    /// the same bits as the general path (about 4–5 % sooner on the Cornell box, 2 threads:
-    /// `docs/performance.md`).
+    /// the same bits as the general path, sooner (docs/performance.md, ledger).
     pub fn lambert_only(&self) -> bool {
         self.lambert_only
     }
@@ -258,9 +257,8 @@ impl PathTracer {
         let geometric = self.geometric_frames[t];
         let n_geom = geometric.z;
         // A smooth hit's frame is built here even when no BSDF will need it (the path's last
-        // hit, a normal-mapped material). Building it only at the BSDF, with the flat frame
-        // passed as an Option, gave the same bits and was 4–5 % slower on the café (2 threads,
-        // paired rounds), neutral on the Cornell box.
+        // hit, a normal-mapped material): building it only at the BSDF was slower on the café
+        // (docs/performance.md, ledger).
         let shading = match &self.attributes.normals {
             _ if FLAT => geometric,
             Some(normals) => {
@@ -530,9 +528,8 @@ impl PathTracer {
                     // The BSDF sample that continues the path, its ray and the next vertex's light
                     // numbers come before next-event estimation. They do not depend on it, and
                     // placed ahead of its shadow query they are computed while the query runs
-                    // instead of after it (same bits, ≈ 2 % faster on the Cornell box). An `if`, not
-                    // `bool::then` with a closure: LLVM once left that closure out of line (14 % of
-                    // the instructions behind a call, 4–5 % slower).
+                    // instead of after it. An `if`, not `bool::then` with a closure, which LLVM
+                    // once left out of line (docs/performance.md, ledger).
                     let next = if light_only {
                         None
                     } else {
@@ -588,7 +585,8 @@ impl PathTracer {
                     }
 
                     // Continue the path along the BSDF sample drawn above. (`next` nests its two
-                    // Options on purpose: flattened into one, LLVM emitted 1.4 % more instructions.)
+                    // Options on purpose: flattened, LLVM emitted more instructions;
+                    // docs/performance.md, ledger.)
                     let Some((Some((bs, next_ray)), u_next)) = next else { break };
                     u_light = u_next;
                     beta *= bs.f * (bs.cos / bs.pdf);
