@@ -13,22 +13,37 @@
 //! direction shares a set with the next vertex's light sample, so one-bounce light is
 //! stratified in 4-D. One-dimensional decisions (lobe choice, roulette) are drawn only where a
 //! material has two lobes or roulette is active.
+//!
+//! The path of one camera ray, in the order the code runs it:
+//! 1. [`PathTracer::radiance`] starts a `PathState` (`path_state.rs`) at the camera ray and
+//!    finds its first vertex (`PathState::find`: the closest hit, the surface and material there
+//!    (`surface.rs`) and the emission seen, or the environment if the ray escapes).
+//! 2. Each of the `split` branches continues from that vertex as a path of its own with its own
+//!    numbers (one branch without splitting); only branch 0 samples the first vertex's light.
+//! 3. `PathState::advance` takes a path one vertex further. `scatter` picks the vertex's lobe,
+//!    glass ([`Dielectric`](crate::bsdf::dielectric::Dielectric)) or the opaque
+//!    [`Bsdf`](crate::bsdf::Bsdf), samples the direction that continues the path, adds
+//!    next-event estimation (`sample_light`: one light sample and its shadow ray) and plays
+//!    Russian roulette; `find` then traces the new ray to the next vertex.
+//! 4. A path ends when its ray escapes, at the maximum depth, by roulette, or where its lobe
+//!    gives no direction.
 
+mod path_state;
 mod surface;
 
-use crate::bsdf::dielectric::Dielectric;
-use crate::bsdf::{Bsdf, BsdfParams};
-use crate::bvh::{Bvh, Hit, Leaving};
+use crate::bsdf::BsdfParams;
+use crate::bvh::{Bvh, Hit};
 use crate::error::{Result, TracerError};
 use crate::interaction::SurfaceInteraction;
-use crate::light::{LightSampler, ShadowTarget};
+use crate::light::LightSampler;
 use crate::material::Material;
 use crate::ray::Ray;
-use crate::sampler::{MAX_SAMPLES_PER_PIXEL, Sampler, sets};
-use crate::sampling::{Frame, power_heuristic};
+use crate::sampler::{MAX_SAMPLES_PER_PIXEL, Sampler};
+use crate::sampling::Frame;
 use crate::scene::Scene;
 use crate::texture::Texture;
 use glam::{Vec2, Vec3};
+use path_state::PathState;
 use surface::Attributes;
 
 /// Path-tracing parameters.
@@ -87,6 +102,9 @@ pub struct FirstHit {
     pub depth: f32,
 }
 
+/// What a camera ray that hits nothing records.
+const MISSED: FirstHit = FirstHit { albedo: Vec3::ZERO, normal: Vec3::ZERO, depth: f32::INFINITY };
+
 /// The radiance estimate of one camera ray.
 #[derive(Clone, Copy, Debug)]
 pub struct PathSample {
@@ -119,7 +137,7 @@ pub struct PathTracer {
     environment: Vec3,
     /// Every emitter a BSDF-sampled ray could reach is also reached by light sampling (no
     /// constant environment outside the light sampler), so the last vertex may estimate its
-    /// direct light by light sampling alone (see [`PathTracer::radiance`]).
+    /// direct light by light sampling alone (see `PathState::scatter`).
     lights_cover_emission: bool,
     config: IntegratorConfig,
     /// 1 / `config.split`: the weight of each branch continued from a first hit (exactly 1
@@ -225,13 +243,15 @@ impl PathTracer {
     /// `u_light` is the first vertex's light sample (it shares the camera's set, see
     /// `crate::sampler::sets`).
     ///
-    /// With first-vertex splitting (`IntegratorConfig::split` = N > 1), branch b of camera
-    /// sample i draws every number past the camera's from sample i·N + b of the pixel's sequence
-    /// ([`Sampler::branch`]; the caller keeps i·N + b below [`MAX_SAMPLES_PER_PIXEL`], as
-    /// `render` does). Branch 0 runs the whole path; each later one resumes at the first
-    /// hit, kept from branch 0, and takes neither its emission nor its light sample again. Any
-    /// MIS weights that sum to one keep the estimate unbiased, so the first hit's light sample
-    /// and its N BSDF samples share the power heuristic of one sample each.
+    /// The camera ray is traced and its first vertex shaded once. With first-vertex splitting
+    /// (`IntegratorConfig::split` = N > 1), N branches then continue from that vertex; branch b
+    /// of camera sample i draws every number past the camera's from sample i·N + b of the
+    /// pixel's sequence ([`Sampler::branch`]; the caller keeps i·N + b below
+    /// [`MAX_SAMPLES_PER_PIXEL`], as `render` does). The first vertex's emission is taken once,
+    /// with the camera ray, and its light sample once, by branch 0; each branch samples a BSDF
+    /// direction of its own. Any MIS weights that sum to one keep the estimate unbiased, so the
+    /// first hit's light sample and its N BSDF samples share the power heuristic of one sample
+    /// each.
     #[inline(always)]
     pub fn radiance<const AOV: bool, const ALPHA: bool, const LAMBERT: bool>(
         &self,
@@ -240,237 +260,25 @@ impl PathTracer {
         u_light: Vec2,
         first: &mut FirstHit,
     ) -> PathSample {
-        let camera_ray = ray;
-        let mut ray = ray;
-        let mut u_light = u_light;
-        let mut l = Vec3::ZERO;
-        let mut beta = Vec3::ONE;
-        let mut rays = 0u32;
-        let mut prev_bsdf_pdf = 0.0f32;
-        // The previous bounce was a delta event: emission it finds takes no MIS weight.
-        let mut specular_bounce = false;
-        let max_depth = self.config.max_depth;
-        let mut depth = 0u32;
-        // The triangles the current ray cannot hit: the one it was spawned from, and its
-        // leaf-mates behind it (none for the eye ray).
-        let mut leaving = Leaving::NOTHING;
-        // First-vertex splitting: the branch being traced, its numbers, the camera ray's hit
-        // (kept for the branches after the first) and whether this vertex resumes at it.
+        let mut out = PathSample { radiance: Vec3::ZERO, rays: 0 };
         let split = self.config.split;
-        let mut branch = 0u32;
-        let base = *sampler;
-        let mut sampler = base.branch(split, 0);
-        let mut camera_hit: Option<Hit> = None;
-        let mut resumed = false;
-        let branch_scale = split as f32;
-        'branches: loop {
-            loop {
-                let hit = if resumed {
-                    let Some(hit) = camera_hit else { break 'branches };
-                    hit
-                } else {
-                    rays += 1;
-                    let Some(hit) = self.closest_hit::<ALPHA>(&ray, leaving) else {
-                        let env = self.lights.environment();
-                        let le = env.map_or(self.environment, |e| e.radiance(ray.direction));
-                        if le != Vec3::ZERO {
-                            let w = if depth == 0 || specular_bounce || env.is_none() {
-                                1.0
-                            } else {
-                                power_heuristic(prev_bsdf_pdf, self.lights.pdf_environment(ray.direction))
-                            };
-                            l += beta * le * w;
-                        }
-                        if AOV && depth == 0 {
-                            *first =
-                                FirstHit { albedo: Vec3::ZERO, normal: Vec3::ZERO, depth: f32::INFINITY };
-                        }
-                        break;
-                    };
-                    if depth == 0 {
-                        camera_hit = Some(hit);
-                    }
-                    hit
-                };
-                debug_assert!(!LAMBERT || self.lambert_only);
-                let si = self.surface::<LAMBERT>(&hit);
-                let material = &self.materials[si.material as usize];
-                let sp = self.shade::<LAMBERT>(material, &si, hit.barycentrics);
-                let wo = -ray.direction;
-
-                if !resumed
-                    && sp.emission != Vec3::ZERO
-                    && (material.emission_two_sided || si.n_geom.dot(wo) > 0.0)
-                {
-                    if depth == 0 || specular_bounce {
-                        l += beta * sp.emission;
-                    } else {
-                        let light_pdf = self.lights.pdf_triangle(hit.triangle, hit.t, ray.direction);
-                        l += beta * sp.emission * power_heuristic(prev_bsdf_pdf, light_pdf);
-                    }
-                }
-                if AOV && depth == 0 {
-                    let n = if sp.normal.dot(wo) < 0.0 { -sp.normal } else { sp.normal };
-                    *first = FirstHit { albedo: sp.base_color, normal: n, depth: hit.t };
-                }
-                if depth == max_depth {
-                    break;
-                }
-
-                // Numbers for this vertex (BSDF direction + next light sample) are drawn when the
-                // path goes on; the one-dimensional decisions only when needed.
-                let roulette = depth + 1 >= self.config.rr_depth;
-                let glass_weight = material.transmission * (1.0 - sp.metallic);
-                let mut decisions = None;
-                let vertex = depth;
-                let mut decide =
-                    |k: usize| decisions.get_or_insert_with(|| sampler.get(sets::decisions(vertex)))[k];
-
-                let glass =
-                    !LAMBERT && glass_weight > 0.0 && (glass_weight >= 1.0 || decide(2) < glass_weight);
-                if glass {
-                    // A smooth dielectric interface: reflect or refract by Fresnel.
-                    let lobe = Dielectric::new(sp.normal, si.n_geom, wo, material.ior, sp.base_color);
-                    let Some(s) = lobe.sample(decide(3)) else { break };
-                    beta *= s.weight;
-                    specular_bounce = true;
-                    let [_, _, l0, l1] = sampler.get(sets::vertex(depth));
-                    u_light = Vec2::new(l0, l1);
-                    ray = si.spawn_ray(s.wi, ray.time);
-                } else {
-                    let bsdf = if LAMBERT {
-                        Bsdf::lambert(sp.base_color, si.shading, si.n_geom, wo)
-                    } else {
-                        let params = BsdfParams {
-                            base_color: sp.base_color,
-                            metallic: sp.metallic,
-                            roughness: sp.roughness,
-                            ..BsdfParams::of(material)
-                        };
-                        // The hit's shading frame, unless a normal map moved the normal.
-                        let frame = if material.textures.normal.is_some() {
-                            Frame::from_z(sp.normal)
-                        } else {
-                            si.shading
-                        };
-                        Bsdf::with_frame(&params, frame, si.n_geom, wo)
-                    };
-                    if bsdf.is_black() {
-                        break;
-                    }
-                    // At the last vertex the BSDF ray could only find emission, which light
-                    // sampling already covers: estimate it by light sampling alone (weight 1) and
-                    // skip that ray and its hit. Unbiased either way; done only on diffuse BSDFs
-                    // (where a light sample is never the worse strategy by much) past the first
-                    // vertex (direct light seen by the camera keeps MIS). On the Cornell box this
-                    // saves one closest-hit query in every path that reaches the last vertex.
-                    let light_only = depth + 1 == max_depth
-                        && depth > 0
-                        && self.lights_cover_emission
-                        && bsdf.is_diffuse();
-
-                    // The BSDF sample that continues the path, its ray and the next vertex's light
-                    // numbers come before next-event estimation. They do not depend on it, and
-                    // placed ahead of its shadow query they are computed while the query runs
-                    // instead of after it. An `if`, not `bool::then` with a closure, which LLVM
-                    // once left out of line (docs/performance.md, ledger).
-                    let next = if light_only {
-                        None
-                    } else {
-                        let [u0, u1, l0, l1] = sampler.get(sets::vertex(depth));
-                        let u_lobe = if bsdf.has_lobe_choice() { decide(0) } else { 0.5 };
-                        let bs = bsdf.sample(Vec2::new(u0, u1), u_lobe);
-                        Some((bs.map(|bs| (bs, si.spawn_ray(bs.wi, ray.time))), Vec2::new(l0, l1)))
-                    };
-
-                    // Next-event estimation (once per first hit, not per branch).
-                    let ls = if resumed {
-                        None
-                    } else if LAMBERT {
-                        self.lights.sample_triangles(si.p, u_light)
-                    } else {
-                        self.lights.sample(si.p, u_light)
-                    };
-                    if let Some(ls) = ls {
-                        let (f, bsdf_pdf) = bsdf.eval(ls.wi);
-                        let mut li = ls.li;
-                        if let (false, Some((tri, b))) = (LAMBERT, ls.emitter) {
-                            let m = &self.materials[self.material_ids[tri as usize] as usize];
-                            if let Some(r) = &m.textures.emissive {
-                                li *= r.eval(&self.textures, self.uvs(tri, b)).truncate();
-                            }
-                        }
-                        if f != Vec3::ZERO && li != Vec3::ZERO {
-                            let shadow = match ls.target {
-                                ShadowTarget::Point { p, p_error, n } => {
-                                    si.spawn_ray_to(p, p_error, n, ray.time)
-                                }
-                                ShadowTarget::Infinite => {
-                                    Some((si.spawn_ray(ls.wi, ray.time), f32::INFINITY))
-                                }
-                            };
-                            if let Some((shadow, t_max)) = shadow {
-                                rays += 1;
-                                if !self.occluded::<ALPHA>(
-                                    &shadow,
-                                    t_max,
-                                    self.bvh.leaving(hit.slot, shadow.direction),
-                                ) {
-                                    let cos = ls.wi.dot(bsdf.shading_normal()).abs();
-                                    let w = if ls.is_delta || light_only {
-                                        1.0
-                                    } else {
-                                        power_heuristic(ls.pdf, bsdf_pdf)
-                                    };
-                                    l += beta * f * li * (cos * w / ls.pdf);
-                                }
-                            }
-                        }
-                    }
-
-                    // Continue the path along the BSDF sample drawn above. (`next` nests its two
-                    // Options on purpose: flattened, LLVM emitted more instructions;
-                    // docs/performance.md, ledger.)
-                    let Some((Some((bs, next_ray)), u_next)) = next else { break };
-                    u_light = u_next;
-                    beta *= bs.f * (bs.cos / bs.pdf);
-                    prev_bsdf_pdf = bs.pdf;
-                    specular_bounce = false;
-                    ray = next_ray;
-                }
-                // Either branch spawned the next ray here.
-                leaving = self.bvh.leaving(hit.slot, ray.direction);
-                if depth == 0 {
-                    beta *= self.branch_weight;
-                    resumed = false;
-                }
-                depth += 1;
-
-                if roulette {
-                    // A branch's throughput at full weight (its 1/N left out, ×1 exactly when
-                    // unsplit): with the 1/N in, roulette would end N − 1 of N branches on
-                    // average at its first vertex and undo the split.
-                    let q = (1.0 - beta.max_element() * branch_scale).max(0.0);
-                    if decide(1) < q {
-                        break;
-                    }
-                    beta /= 1.0 - q;
-                }
-            }
-            // The path has ended; the next branch resumes at the camera ray's hit.
-            branch += 1;
-            if branch == split {
-                break;
-            }
-            sampler = base.branch(split, branch);
-            ray = camera_ray;
-            beta = Vec3::ONE;
-            prev_bsdf_pdf = 0.0;
-            specular_bounce = false;
-            depth = 0;
-            leaving = Leaving::NOTHING;
-            resumed = true;
+        let camera = PathState::camera(ray, sampler.branch(split, 0), u_light);
+        let found = camera.find::<ALPHA, LAMBERT>(self, &mut out);
+        if AOV {
+            *first = found.as_ref().map_or(MISSED, |v| v.first_hit());
         }
-        PathSample { radiance: l, rays }
+        let Some(first_vertex) = found else { return out };
+        for branch in 0..split {
+            let mut path = camera.with_sampler(sampler.branch(split, branch));
+            let mut vertex = first_vertex;
+            // The first vertex's light is sampled once, by branch 0; every later vertex's by
+            // the path that reaches it.
+            let mut sample_light = branch == 0;
+            while let Some(next) = path.advance::<ALPHA, LAMBERT>(self, &vertex, sample_light, &mut out) {
+                vertex = next;
+                sample_light = true;
+            }
+        }
+        out
     }
 }
