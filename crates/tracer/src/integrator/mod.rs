@@ -66,7 +66,7 @@ pub struct IntegratorConfig {
 impl IntegratorConfig {
     /// A general-purpose default: 8 scattering vertices, roulette after 5. (Throughput-based
     /// roulette only pays on long paths: from depth 3 it cost the Cornell box more noise than
-    /// it saved time; docs/performance.md, ledger.)
+    /// it saved time; docs/performance.md, ledger: "Russian roulette from depth 3".)
     pub const DEFAULT: Self = Self { max_depth: 8, rr_depth: 5, split: 1 };
 
     /// The same configuration with another maximum depth.
@@ -125,7 +125,8 @@ pub struct PathTracer {
     /// Per triangle (mesh order): the frame around the unit geometric normal (its z), computed
     /// once here rather than at every hit, where the normal's cross product, square root and
     /// division and the frame's own division sat between the hit and everything shading does
-    /// with it. Flat-shaded hits use it as their shading frame (36 bytes per triangle).
+    /// with it. Flat-shaded hits use it as their shading frame (36 bytes per triangle;
+    /// docs/performance.md, ledger: "precomputed shading frame").
     geometric_frames: Vec<Frame>,
     /// Per triangle: does its material have an alpha test? `None` when no material does, in
     /// which case traversal runs without any test callback.
@@ -216,7 +217,8 @@ impl PathTracer {
     /// emissive triangles alone (the Cornell box's class of scene). Renders then take
     /// [`PathTracer::radiance`] with `LAMBERT`, which leaves out what such scenes lack (vertex
     /// normals, textures, glass, the specular lobe's set-up, other kinds of light) and gives
-    /// the same bits as the general path, sooner (docs/performance.md, ledger).
+    /// the same bits as the general path, sooner (docs/performance.md, ledger: "Lambert-only
+    /// path", "triangle lights without dispatch").
     pub fn lambert_only(&self) -> bool {
         self.lambert_only
     }

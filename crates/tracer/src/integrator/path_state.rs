@@ -216,7 +216,8 @@ impl PathState {
             // and its hit. Unbiased either way; done only on diffuse BSDFs (where a light sample
             // is never the worse strategy by much) past the first vertex (direct light seen by
             // the camera keeps MIS). It saves one closest-hit query in every path that reaches
-            // the last vertex.
+            // the last vertex (docs/performance.md, ledger: "last vertex by light sampling
+            // alone").
             let light_only = depth + 1 == tracer.config.max_depth
                 && depth > 0
                 && tracer.lights_cover_emission
@@ -224,8 +225,9 @@ impl PathState {
 
             // The BSDF sample that continues the path, its ray and the next vertex's light
             // numbers come before next-event estimation: they do not depend on it, and ahead of
-            // its shadow query they are computed while the query runs. An `if`, not `bool::then`
-            // with a closure, which LLVM once left out of line (docs/performance.md, ledger).
+            // its shadow query they are computed while the query runs (docs/performance.md,
+            // ledger: "continuing sample before the shadow query"). An `if`, not `bool::then`
+            // with a closure, which LLVM once left out of line (ledger: "Lambert-only path").
             let next = if light_only {
                 None
             } else {
@@ -238,7 +240,7 @@ impl PathState {
                 self.sample_light::<ALPHA, LAMBERT>(tracer, v, &bsdf, light_only, out);
             }
             // Go on along the BSDF sample drawn above. (`next` nests its two Options on purpose:
-            // flattened, LLVM emitted more instructions; docs/performance.md, ledger.)
+            // docs/performance.md, ledger: "continuation sample's Options flattened".)
             let Some((Some((bs, next_ray)), u_next)) = next else { return false };
             self.u_light = u_next;
             self.beta *= bs.f * (bs.cos / bs.pdf);

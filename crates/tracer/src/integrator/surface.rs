@@ -66,7 +66,7 @@ impl PathTracer {
         let n_geom = geometric.z;
         // A smooth hit's frame is built here even when no BSDF will need it (the path's last
         // hit, a normal-mapped material): building it only at the BSDF was slower on the café
-        // (docs/performance.md, ledger).
+        // (docs/performance.md, ledger: "shading frame only where a BSDF needs it").
         let shading = match &self.attributes.normals {
             _ if FLAT => geometric,
             Some(normals) => {
