@@ -139,7 +139,7 @@ pub fn collage(data: &[u8]) {
     let bits = 1 + data.len() as u8 % 8;
     let tag = TagCode::new(bits).expect("1..=8 bits is a valid tag code");
     for (known, strays) in [(None, StrayPolicy::Refuse), (Some(&known), StrayPolicy::Background)] {
-        match Collage::decode(&image, &path, known, CollageOptions { tag, strays, ..Default::default() }) {
+        match Collage::decode(&image, &path, known, CollageOptions { tag, strays }) {
             Ok((c, report)) => {
                 check_collage(&c, &image, known);
                 let _ = report.to_string();
