@@ -96,6 +96,28 @@ pub struct FilmImages {
     pub depth: GrayImage,
 }
 
+impl FilmImages {
+    /// Every image without a border of `n` pixels on each side (undoing a camera's overscan);
+    /// `None` when the border leaves no pixel.
+    pub fn without_border(&self, n: u32) -> Option<Self> {
+        let (w, h) = (self.image.width, self.image.height);
+        if 2 * n as u64 >= w as u64 || 2 * n as u64 >= h as u64 {
+            return None;
+        }
+        let (cw, ch) = (w - 2 * n, h - 2 * n);
+        let rgb = |x: &RgbImage| x.crop(n, n, cw, ch);
+        let gray = |x: &GrayImage| x.crop(n, n, cw, ch);
+        Some(Self {
+            image: rgb(&self.image)?,
+            variance: rgb(&self.variance)?,
+            samples: gray(&self.samples)?,
+            albedo: rgb(&self.albedo)?,
+            normal: rgb(&self.normal)?,
+            depth: gray(&self.depth)?,
+        })
+    }
+}
+
 impl Film {
     /// An empty film; `pixels` must hold width × height accumulators in row-major order.
     pub fn new(width: u32, height: u32, pixels: Vec<PixelAccumulator>) -> Self {

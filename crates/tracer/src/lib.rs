@@ -19,6 +19,7 @@ pub mod image;
 pub mod image_io;
 pub mod integrator;
 pub mod interaction;
+pub mod job;
 pub mod lens;
 pub mod light;
 pub mod material;
