@@ -8,6 +8,7 @@ pub mod collage;
 pub mod compose;
 pub mod error;
 pub mod inbetween;
+pub mod job;
 pub mod layers;
 pub mod lens_reader;
 pub mod lens_writer;

@@ -24,9 +24,8 @@ pub mod weights;
 
 pub use debug::RemapDebug;
 
-use crate::collage::{Collage, CollageOptions, StrayReport};
+use crate::collage::{Collage, StrayReport};
 use crate::error::{MccError, Result};
-use crate::layers::{CameraNames, open_collage};
 use crate::ray_file::{RayFile, StoredRay};
 use crate::regions::{RegionInfo, Regions};
 use std::collections::{BTreeMap, BTreeSet};
@@ -266,54 +265,6 @@ pub fn remap_sources(
     let mut rays = RayFile::new(collage.width, collage.height, frame, 0, rays)?;
     rays.computed = true;
     Ok(RemapOutput { rays, warnings, debug })
-}
-
-/// Everything [`remap_files`] reads.
-#[derive(Clone, Debug)]
-pub struct RemapInputs<'a> {
-    /// The collage: a tagged image, or a layered file (OpenRaster, PSD: `crate::layers`).
-    pub collage: &'a Path,
-    /// The region image (an image or a layered file); `None` takes the collage's `regions`
-    /// group, else `<collage-stem>-regions.png` beside the collage.
-    pub regions: Option<&'a Path>,
-    /// The directory holding the views' ray files (`frameFFFFcameraCC.{mcr|txt}`).
-    pub rays_dir: &'a Path,
-    /// The frame whose views to use.
-    pub frame: u32,
-    /// How to decode the collage.
-    pub collage_options: CollageOptions,
-}
-
-/// The whole remap stage from files: finds the frame's ray files, reads the collage (by its
-/// content: a tagged image or a layered file, [`open_collage`]) against them, finds the regions, loads the rays one file at a time and remaps. Stray pixels treated as
-/// background come back as a warning.
-pub fn remap_files(inputs: &RemapInputs<'_>, config: &RemapConfig) -> Result<RemapOutput> {
-    config.validate()?;
-    let paths = crate::names::find_view_rays(inputs.rays_dir, inputs.frame)?;
-    if paths.is_empty() {
-        return Err(MccError::Directory {
-            path: inputs.rays_dir.into(),
-            message: format!(
-                "no ray files for frame {} (looked for {} and the like)",
-                inputs.frame,
-                crate::names::view_rays_name(inputs.frame, 1, crate::RayFormat::Binary)
-            ),
-        });
-    }
-    let known: BTreeSet<u32> = paths.keys().copied().collect();
-    // A tagged image, or a layered file whose layers name their cameras (by id, or by the
-    // names the views' EXR headers record).
-    let names = CameraNames::from_views(known, inputs.rays_dir, inputs.frame);
-    let opened = open_collage(inputs.collage, inputs.regions, &names, inputs.collage_options)?;
-    let sources = SourceRays::load(&opened.collage, &paths)?;
-    let mut output = remap_sources(&opened.collage, &opened.regions, &sources, inputs.frame, config)?;
-    let mut first = Vec::new();
-    if !opened.strays.is_empty() {
-        first.push(RemapWarning::StraysIgnored(opened.strays));
-    }
-    first.extend(opened.notes.into_iter().map(RemapWarning::Layers));
-    output.warnings.splice(0..0, first);
-    Ok(output)
 }
 
 #[cfg(test)]

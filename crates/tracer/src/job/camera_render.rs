@@ -1,5 +1,5 @@
-//! One camera's render (docs/design.md §3, "Camera and lens shaders"): a prepared scene seen
-//! through a camera and its lens chain at a frame, with progress and cancellation.
+//! One camera's render (docs/design.md §3.8): a prepared scene seen through a camera and its lens
+//! chain at a frame, with progress and cancellation.
 
 use super::Quality;
 use crate::camera::Camera;

@@ -1,5 +1,5 @@
-//! Quality settings of a render (docs/design.md §3): how many samples, which seed, how deep the
-//! paths go, and what the film records.
+//! Quality settings of a render (docs/design.md §3.3, §3.5): how many samples, which seed, how deep
+//! the paths go, and what the film records.
 
 use crate::error::Result;
 use crate::integrator::{IntegratorConfig, PathTracer};
