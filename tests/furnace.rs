@@ -1,6 +1,5 @@
-//! Furnace tests: scenes whose every pixel has a closed-form radiance (NOTES.md, "Testing a Monte
-//! Carlo renderer without flaky tests"; pbrt-v4's analytic-scene tests), so the reference is
-//! mathematics, not another renderer.
+//! Furnace tests: scenes whose every pixel has a closed-form radiance (docs/design.md §9.1;
+//! pbrt-v4's analytic-scene tests), so the reference is mathematics, not another renderer.
 //!
 //! (a) A camera inside a closed diffuse sphere of albedo ρ whose wall emits radiance Le towards
 //!     the inside. Every wall point sees only wall, so with unlimited depth the radiance L is the

@@ -1,10 +1,10 @@
-//! Numerical stress tests of the tracer (NOTES.md, "Numerical robustness"; SPEC §3, "Ray
-//! epsilon", "Camera and lens shaders"): `tests/robustness.rs` proves the ray–surface arithmetic
-//! on the Cornell box (Lambert, emissive triangles, a perspective camera); these extend it to
-//! every material (Lambert, GGX metal, rough dielectric, glass, textured alpha mask, normal maps
-//! through explicit and derived tangents, one- and double-sided emitters), every light type
-//! (emissive triangles, point, spot, directional, constant sky, environment image) and every
-//! camera model (perspective, orthographic, thin lens, fisheye, equirectangular).
+//! Numerical stress tests of the tracer (docs/design.md §9.4, §3.4, §3.8): `tests/robustness.rs`
+//! proves the ray–surface arithmetic on the Cornell box (Lambert, emissive triangles, a perspective
+//! camera); these extend it to every material (Lambert, GGX metal, rough dielectric, glass,
+//! textured alpha mask, normal maps through explicit and derived tangents, one- and double-sided
+//! emitters), every light type (emissive triangles, point, spot, directional, constant sky,
+//! environment image) and every camera model (perspective, orthographic, thin lens, fisheye,
+//! equirectangular).
 //!
 //! * `scale`: the stress scene scaled by 10^k, k ∈ {−4, −2, 2, 4}, or moved 10^4 along every
 //!   axis renders the same image as at unit scale (statistical two-estimate test, independent

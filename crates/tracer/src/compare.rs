@@ -1,14 +1,13 @@
 //! Image statistics for tests and benchmarks: error metrics (MSE, relMSE) and the statistical
 //! golden test that tells "noisy but right" from "wrong" without flaky thresholds.
 //!
-//! The statistical test is Mitsuba 3's (shared NOTES.md, "Testing a Monte Carlo renderer without
-//! flaky tests"): each pixel-channel's difference from the reference, divided by the standard
-//! error the render's own per-sample variance predicts, is a z-score; its two-sided p-value is
-//! compared with a Šidák-corrected significance so that the chance of *any* false failure in a
-//! correct image is 1 %, and the test passes when ≥ 99.75 % of pixel-channels pass. Because a
-//! small global bias (a 2 % darker image) hides under per-pixel noise, an image-level check adds
-//! the z-score of each channel's mean difference. All functions panic if the images' sizes differ
-//! (a programming error, not a measurement).
+//! The statistical test is Mitsuba 3's (docs/design.md §9.2): each pixel-channel's difference from
+//! the reference, divided by the standard error the render's own per-sample variance predicts, is a
+//! z-score; its two-sided p-value is compared with a Šidák-corrected significance so that the
+//! chance of *any* false failure in a correct image is 1 %, and the test passes when ≥ 99.75 % of
+//! pixel-channels pass. Because a small global bias (a 2 % darker image) hides under per-pixel
+//! noise, an image-level check adds the z-score of each channel's mean difference. All functions
+//! panic if the images' sizes differ (a programming error, not a measurement).
 
 use crate::image::RgbImage;
 use std::fmt;
@@ -157,8 +156,8 @@ impl StatReport {
 
 impl StatTest {
     /// Tests a noisy render against a converged reference whose own noise is negligible (per
-    /// NOTES.md, the render's own variance stands in when the reference has no variance image):
-    /// z = |x − ref| · sqrt(N / max(var, floor)).
+    /// docs/design.md §9.2, the render's own variance stands in when the reference has no variance
+    /// image): z = |x − ref| · sqrt(N / max(var, floor)).
     pub fn against_reference(&self, test: Estimate<'_>, reference: &RgbImage) -> StatReport {
         assert_same_size(&[(test.mean, "mean"), (test.variance, "variance"), (reference, "reference")]);
         let floor = self.variance_floor;

@@ -11,7 +11,8 @@ use serde_json::{Value, json};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-/// The Cornell reference camera (shared/reference/cornell/scene.json): the OBJ carries none.
+/// The Cornell reference camera (the Mitsuba reference's, `tests/data/cornell/README.md`): the OBJ
+/// carries none.
 const CORNELL_FROM: [f64; 3] = [2.78, 2.73, -8.0];
 const CORNELL_FOV_Y_DEG: f64 = 39.30764811610662;
 
@@ -143,9 +144,10 @@ fn parse_mtl(path: &Path) -> Result<BTreeMap<String, MtlMaterial>> {
     Ok(materials)
 }
 
-/// A glTF material for an MTL one, as Blender's exporter writes such surfaces (NOTES.md): plain
-/// surfaces are two-sided with `KHR_materials_specular` 0 (pure Lambertian, like an MTL without
-/// Ks); an emitter is emissiveFactor × emissiveStrength, one-sided like the MTL's front-face `Ke`.
+/// A glTF material for an MTL one, as Blender's exporter writes such surfaces (docs/design.md
+/// §3.10): plain surfaces are two-sided with `KHR_materials_specular` 0 (pure Lambertian, like an
+/// MTL without Ks); an emitter is emissiveFactor × emissiveStrength, one-sided like the MTL's
+/// front-face `Ke`.
 fn gltf_material(name: &str, m: &MtlMaterial) -> Value {
     let mut out = json!({
         "name": name,

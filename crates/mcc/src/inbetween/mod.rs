@@ -1,9 +1,10 @@
-//! The in-betweener (SPEC §7): keyframe ray files in, one ray file per animation frame out.
+//! The in-betweener (docs/design.md §7): keyframe ray files in, one ray file per animation frame
+//! out.
 //!
 //! Keys are (frame, ray file) pairs. Every key is first brought to the output resolution (given,
-//! or the earliest key's) with the lens reader's rule ([`RaySampler`], SPEC §6: a key already at
-//! that size is kept bit for bit); keys need share no cameras, they are only rays. A frame's ray
-//! at pixel p is then interpolated from the keys' rays at p:
+//! or the earliest key's) with the lens reader's rule ([`RaySampler`], docs/design.md §6: a key
+//! already at that size is kept bit for bit); keys need share no cameras, they are only rays. A
+//! frame's ray at pixel p is then interpolated from the keys' rays at p:
 //!
 //! * **at a key** the key's ray, bit for bit; **before the first / after the last key** the
 //!   nearest key's, bit for bit (the animation holds);
@@ -61,7 +62,8 @@
 //! that LLVM vectorises (SSE2, or AVX2 where the CPU has it, chosen at run time; no FMA, so both
 //! give the same bits). Each pixel is a pure function of the key data and the frame: the bits do
 //! not depend on the thread count. Linear frames call the crate's scalar [`crate::slerp::slerp`]
-//! per pixel and cost about twice as much as smooth ones.
+//! per pixel, so they are slower than smooth ones
+//! (docs/performance.md, ledger: "vectorised smooth in-between").
 
 mod kernel;
 #[cfg(test)]
@@ -264,7 +266,8 @@ impl Keys {
     }
 
     /// [`Keys::frame`] into an existing ray file, reusing its ray buffer when it has the right
-    /// size (a fresh 1080p buffer costs page faults worth a third of a frame).
+    /// size (a fresh buffer costs its page faults again:
+    /// docs/performance.md, ledger: "in-between buffer reuse").
     pub fn frame_into(&self, frame: u32, mode: InbetweenMode, out: &mut RayFile) {
         let n = self.width as usize * self.height as usize;
         if out.rays.len() != n {
@@ -444,8 +447,9 @@ fn rename(e: MccError, what: String) -> MccError {
     }
 }
 
-/// The rays of `file` at `resolution` by the lens reader's rule (SPEC §6), sampled at the output
-/// pixel centres; a file already at that size is returned as it is (the rule is exact there).
+/// The rays of `file` at `resolution` by the lens reader's rule (docs/design.md §6), sampled at the
+/// output pixel centres; a file already at that size is returned as it is (the rule is exact
+/// there).
 fn resample(file: RayFile, resolution: UVec2) -> Result<Vec<StoredRay>> {
     if (file.width, file.height) == (resolution.x, resolution.y) {
         return Ok(file.rays);

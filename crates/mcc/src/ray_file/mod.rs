@@ -1,4 +1,5 @@
-//! Ray files (SPEC §4): one eye ray (origin, unit direction) per pixel of a view or of a rerender.
+//! Ray files (docs/design.md §4.2): one eye ray (origin, unit direction) per pixel of a view or of
+//! a rerender.
 //!
 //! Two encodings, told apart by the content (never by the file name):
 //!
@@ -119,7 +120,7 @@ pub enum RayFormat {
 }
 
 impl RayFormat {
-    /// The file extension SPEC §4 names give this encoding (without the dot).
+    /// The file extension docs/design.md §4.3 names give this encoding (without the dot).
     pub fn extension(self) -> &'static str {
         match self {
             RayFormat::Binary => "mcr",

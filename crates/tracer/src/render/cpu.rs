@@ -5,8 +5,8 @@
 //! fast-math flags, and each level's operations are IEEE's (a test compares all three).
 //!
 //! The loop's code is the same at every level; what a level changes is the instructions LLVM
-//! may pick: v3 took the Cornell box from 530 to 463 M instructions per spp (1.25 → 1.16 s),
-//! v4 (32 vector registers, so fewer spills) ≈ 2 % more (`docs/performance.md`).
+//! may pick: v3's AVX2 and BMI, v4's 32 vector registers (so fewer spills). Each level paid for
+//! itself (docs/performance.md, ledger: "x86-64-v3 tile loop", "x86-64-v4 tile loop").
 
 use super::{PixelAccumulator, TileJob};
 #[cfg(test)]

@@ -55,10 +55,24 @@ impl RenderSettings {
     }
 }
 
-/// Progress reports from a render (called from worker threads).
+/// Progress reports from long work, and the caller's way to stop it. The render loop calls
+/// `advance` from worker threads and asks `cancelled` before each tile; the jobs around it
+/// (`crate::job`) bracket each stage with `begin` and `finish`.
 pub trait Progress: Sync {
     /// `samples` more pixel samples are finished (a render takes about width × height × spp).
     fn advance(&self, samples: u64);
+
+    /// A stage of about `total` units called `label` begins (a camera's render: its samples).
+    fn begin(&self, _label: &str, _total: u64) {}
+
+    /// The stage begun last is over.
+    fn finish(&self) {}
+
+    /// Whether the caller wants the work stopped: a render then skips its remaining tiles and
+    /// returns [`TracerError::Cancelled`], writing nothing. Once true it must stay true.
+    fn cancelled(&self) -> bool {
+        false
+    }
 }
 
 /// A progress sink that ignores everything.
@@ -152,6 +166,9 @@ pub fn render(
             None => trace(&Pass { start: 0, ends: Ends::All(settings.spp), previous: None }),
             Some(pilot) => {
                 let (film, pilot_rays) = trace(&Pass { start: 0, ends: Ends::All(pilot), previous: None });
+                if progress.cancelled() {
+                    return Err(TracerError::Cancelled);
+                }
                 let counts = adaptive::sample_counts(&film, res.x, res.y, settings.spp, most_spp);
                 let pass = Pass { start: pilot, ends: Ends::PerPixel(&counts), previous: Some(&film) };
                 let (film, rays) = trace(&pass);
@@ -160,6 +177,11 @@ pub fn render(
         }
     };
     let seconds = start.elapsed().as_secs_f64();
+    // A cancelled render skipped tiles: its film is incomplete, and the lens shaders' tear-down
+    // (the lens writer's file) must not run on it.
+    if progress.cancelled() {
+        return Err(TracerError::Cancelled);
+    }
     lenses.end_frame(camera, frame)?;
 
     let film = Film::new(res.x, res.y, pixels);
@@ -221,6 +243,9 @@ fn trace_film<const AOV: bool, const ALPHA: bool, const LAMBERT: bool>(
     let tiles: Vec<(Vec<PixelAccumulator>, u64)> = (0..tiles_x * tiles_y)
         .into_par_iter()
         .map(|tile| {
+            if progress.cancelled() {
+                return (Vec::new(), 0);
+            }
             let (accs, rays, samples) = cpu::trace_tile::<AOV, ALPHA, LAMBERT>(level, &job, tile);
             progress.advance(samples);
             (accs, rays)
@@ -591,5 +616,56 @@ mod tests {
                 assert!(r.images.albedo == baseline.images.albedo && r.images.depth == baseline.images.depth);
             }
         }
+    }
+
+    /// Cancels once the first tile is done.
+    struct CancelAfterFirstTile(std::sync::atomic::AtomicBool);
+
+    impl Progress for CancelAfterFirstTile {
+        fn advance(&self, _samples: u64) {
+            self.0.store(true, Ordering::Relaxed);
+        }
+        fn cancelled(&self) -> bool {
+            self.0.load(Ordering::Relaxed)
+        }
+    }
+
+    /// Counts its tear-downs (a stand-in for the lens writer, which writes its file there).
+    struct TearDowns(std::sync::Arc<std::sync::atomic::AtomicU32>);
+
+    impl crate::lens::LensShader for TearDowns {
+        fn name(&self) -> &str {
+            "tear-downs"
+        }
+        fn shade(&self, _sample: &CameraSample, ray: crate::ray::Ray) -> Option<crate::ray::Ray> {
+            Some(ray)
+        }
+        fn end_frame(&mut self, _ctx: &crate::lens::FrameContext<'_>) -> Result<(), crate::error::LensError> {
+            self.0.fetch_add(1, Ordering::Relaxed);
+            Ok(())
+        }
+    }
+
+    /// A cancelled render stops early with `Cancelled`, uniform or adaptive, and skips the
+    /// lens chain's tear-down (so a lens writer writes nothing); one that is not cancelled
+    /// tears down once.
+    #[test]
+    fn cancelled_renders_stop_with_an_error() {
+        let scene = scene(false);
+        let tracer = PathTracer::new(&scene, IntegratorConfig::DEFAULT).unwrap();
+        let camera = test_camera();
+        let count = std::sync::Arc::new(std::sync::atomic::AtomicU32::new(0));
+        let mut lenses = LensChain::new();
+        lenses.push(Box::new(TearDowns(count.clone())));
+        for settings in
+            [RenderSettings::still(4), RenderSettings { adaptive: true, ..RenderSettings::still(8) }]
+        {
+            let cancel = CancelAfterFirstTile(std::sync::atomic::AtomicBool::new(false));
+            let err = render(&tracer, camera.as_ref(), &mut lenses, &settings, &cancel).unwrap_err();
+            assert!(matches!(err, TracerError::Cancelled), "{err}");
+        }
+        assert_eq!(count.load(Ordering::Relaxed), 0);
+        render(&tracer, camera.as_ref(), &mut lenses, &RenderSettings::still(4), &NoProgress).unwrap();
+        assert_eq!(count.load(Ordering::Relaxed), 1);
     }
 }

@@ -1,5 +1,5 @@
-//! The MCC demo's hand-cut collage, drawn procedurally (SPEC §4, §8): a label image saying which
-//! camera each pixel of the 480 × 270 collage comes from, and a region image.
+//! The MCC demo's hand-cut collage, drawn procedurally (docs/design.md §4.5, §8): a label image
+//! saying which camera each pixel of the 480 × 270 collage comes from, and a region image.
 //!
 //! Labels: pure red (255, 0, 0) = camera 1 (`left`, showing figure B's face), pure green
 //! (0, 255, 0) = camera 2 (`right`, showing figure A's face), black = background, to be filled

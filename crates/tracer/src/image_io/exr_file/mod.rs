@@ -2,11 +2,10 @@
 //!
 //! Written files are single-part, scan-line, f32, ZIP-compressed (zlib, 16 lines per block).
 //! ZIP rather than PIZ: both are lossless, and PIZ's wavelet is built for f16 data; on f32 renders
-//! it gains nothing. Measured on the Cornell reference (256², 3 × f32): ZIP 727 kB, PIZ 755 kB;
-//! the exr crate decodes ZIP in 4.4 ms and PIZ in 29 ms, and writes ZIP twice as fast. The reader
-//! takes whatever the exr crate reads: scan-line or tiled (largest mip level), any compression,
-//! f16/f32/u32 channels (all converted to f32), single- or multi-part files (a part's name
-//! prefixes its channels: `part.R`).
+//! it is larger and slower to read and write (docs/performance.md, ledger: "EXR: ZIP over PIZ").
+//! The reader takes whatever the exr crate reads: scan-line or tiled (largest mip level), any
+//! compression, f16/f32/u32 channels (all converted to f32), single- or multi-part files (a
+//! part's name prefixes its channels: `part.R`).
 
 use super::{MAX_PIXELS, MAX_SAMPLES, check_dimensions};
 use crate::atomic::write_atomically;

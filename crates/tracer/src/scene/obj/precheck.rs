@@ -1,5 +1,5 @@
-//! Line-level checks of OBJ and MTL text that tobj does not make (SPEC §3, §8: every malformed
-//! input is an error naming the file and line, never a panic).
+//! Line-level checks of OBJ and MTL text that tobj does not make (docs/design.md §3.1, §8: every
+//! malformed input is an error naming the file and line, never a panic).
 //!
 //! - MTL values: tobj 4.0.5 reads `Ka`/`Kd`/`Ks`/`Ke` with `parse_float3`, which **panics** (an
 //!   `unwrap` on a 3-element conversion, tobj/src/lib.rs:783) when the statement has fewer than
