@@ -2,7 +2,7 @@
 //! (`scenes/cornell/cornell.gltf`, camera `cornell`) and as the directory of OBJ parts (with the
 //! README's look-at camera), rendered at 256², 4 scattering vertices, and compared with Mitsuba
 //! 3's converged 16384-spp reference (`tests/data/cornell/`) by `tracer::compare`'s statistical
-//! test (docs/design.md §9.2: per-pixel Šidák-corrected z-test on the render's own per-sample
+//! test (docs/testing.md §2: per-pixel Šidák-corrected z-test on the render's own per-sample
 //! variance, plus an image-level bias check).
 //!
 //! What would fail: any bias in light transport (BSDF, light sampling, MIS weights, emission

@@ -1,4 +1,4 @@
-//! Furnace tests: scenes whose every pixel has a closed-form radiance (docs/design.md §9.1;
+//! Furnace tests: scenes whose every pixel has a closed-form radiance (docs/testing.md §1;
 //! pbrt-v4's analytic-scene tests), so the reference is mathematics, not another renderer.
 //!
 //! (a) A camera inside a closed diffuse sphere of albedo ρ whose wall emits radiance Le towards

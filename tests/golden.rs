@@ -1,4 +1,4 @@
-//! The golden-image regression suite (issue 6 item 1; docs/design.md §9.2): every bundled scene and
+//! The golden-image regression suite (issue 6 item 1; docs/testing.md §2): every bundled scene and
 //! camera, each camera model, and an in-between MCC frame rendered through the lens reader, at
 //! small size and modest spp, each compared with its golden EXR in `tests/data/golden/` (converged
 //! mean + per-sample variance + spp, ZIP-compressed) by the per-pixel Šidák z-test and the

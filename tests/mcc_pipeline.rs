@@ -6,7 +6,7 @@
 //!   centre, and its rerender equals a plain render of camera 1 statistically (an independent
 //!   path: no MCC at all).
 //! - A mixed collage rerenders like its golden EXR (`tests/data/golden/`), checked by the golden
-//!   suite's machinery (`common/golden.rs`: docs/design.md §9.2's statistical test on both images'
+//!   suite's machinery (`common/golden.rs`: docs/testing.md §2's statistical test on both images'
 //!   per-sample variances). `UPDATE_GOLDEN=1 cargo test --release -p mcctrace-suite --test
 //!   suite -- mcc_pipeline::mixed` re-renders the golden and prints how it changed.
 //! - Malformed inputs give errors naming the file, and leave no output behind.

@@ -1,4 +1,4 @@
-//! The statistical golden-image machinery (issue 6 item 1; docs/design.md §9.2): a golden is a
+//! The statistical golden-image machinery (issue 6 item 1; docs/testing.md §2): a golden is a
 //! converged render stored as a ZIP-compressed EXR with its per-sample variance as a second layer
 //! and its samples per pixel in the metadata; a test renders the same view at modest spp with
 //! another seed (independent samples) and compares with `StatTest::between`: per pixel-channel z =

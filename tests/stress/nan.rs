@@ -1,4 +1,4 @@
-//! No NaN or infinite sample anywhere (docs/design.md §9.4: grazing directions
+//! No NaN or infinite sample anywhere (docs/testing.md §4: grazing directions
 //! (cos ≈ 1e-7) and degenerate triangles give no NaN; the film's NaN/Inf count is asserted zero):
 //! grazing views of every material under every light type through every camera model,
 //! degenerate and zero-area triangles of every material (which must also change nothing),

@@ -1,7 +1,7 @@
 //! Image statistics for tests and benchmarks: error metrics (MSE, relMSE) and the statistical
 //! golden test that tells "noisy but right" from "wrong" without flaky thresholds.
 //!
-//! The statistical test is Mitsuba 3's (docs/design.md §9.2): each pixel-channel's difference from
+//! The statistical test is Mitsuba 3's (docs/testing.md §2): each pixel-channel's difference from
 //! the reference, divided by the standard error the render's own per-sample variance predicts, is a
 //! z-score; its two-sided p-value is compared with a Šidák-corrected significance so that the
 //! chance of *any* false failure in a correct image is 1 %, and the test passes when ≥ 99.75 % of
@@ -156,7 +156,7 @@ impl StatReport {
 
 impl StatTest {
     /// Tests a noisy render against a converged reference whose own noise is negligible (per
-    /// docs/design.md §9.2, the render's own variance stands in when the reference has no variance
+    /// docs/testing.md §2, the render's own variance stands in when the reference has no variance
     /// image): z = |x − ref| · sqrt(N / max(var, floor)).
     pub fn against_reference(&self, test: Estimate<'_>, reference: &RgbImage) -> StatReport {
         assert_same_size(&[(test.mean, "mean"), (test.variance, "variance"), (reference, "reference")]);
