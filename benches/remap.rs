@@ -1,4 +1,5 @@
-//! Remapper, ray-file and lens-reader speed, and the remapper's peak memory (SPEC §5, §4, §6).
+//! Remapper, ray-file and lens-reader speed, and the remapper's peak memory (docs/design.md §5,
+//! §4.2, §6).
 //!
 //! `cargo bench --bench remap` prints one table. Everything is synthetic and deterministic:
 //! cameras on a circle around the origin (some facing each other), elliptical blobs of each
@@ -12,9 +13,10 @@
 use glam::{UVec2, Vec2, Vec3};
 use mcc::collage::Collage;
 use mcc::image;
+use mcc::job::CollageFiles;
 use mcc::ray_file::{RayFile, RayFormat, StoredRay};
 use mcc::regions::Regions;
-use mcc::remap::{RemapConfig, RemapInputs, SourceRays, remap_files, remap_sources};
+use mcc::remap::{RemapConfig, SourceRays, remap_sources};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -169,15 +171,9 @@ fn write_inputs(dir: &Path, w: u32, h: u32, cameras: u32, frame: u32) -> PathBuf
 /// The child: the whole remap stage from files in `dir`; prints "ms kib".
 fn child(dir: &Path) {
     let collage = dir.join("collage.png");
-    let inputs = RemapInputs {
-        collage: &collage,
-        regions: None,
-        rays_dir: dir,
-        frame: 1,
-        collage_options: Default::default(),
-    };
+    let inputs = CollageFiles::new(collage, dir, 1);
     let (start, cpu0) = (Instant::now(), cpu_ms());
-    let out = remap_files(&inputs, &RemapConfig::GLASSNER).expect("remap");
+    let out = inputs.remap(&RemapConfig::GLASSNER).expect("remap");
     let (elapsed, cpu) = (ms(start.elapsed()), cpu_ms() - cpu0);
     out.rays.write(&dir.join("rerender-frame0001.mcr"), RayFormat::Binary).expect("write");
     drop(out);

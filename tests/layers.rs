@@ -12,9 +12,7 @@
 //!   given (analytic boundaries: a linear feather, a Gaussian-feathered selection, an offset
 //!   layer, a hidden layer, a group with opacity).
 
-mod common;
-
-use common::{Scratch, mcctrace, repo_root};
+use crate::common::{Scratch, mcctrace, repo_root};
 use mcc::image::{self, DynamicImage, RgbaImage};
 use mcc::layers::{CameraNames, open_collage};
 use std::io::{Read, Write};

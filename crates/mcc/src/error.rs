@@ -1,6 +1,6 @@
-//! The MCC error type (SPEC §8: "every error names the file and what is wrong with it"). Each
-//! variant carries the file (or, for data handed over in memory, what the data is) and a message
-//! a user can act on; nothing in this crate prints or panics on bad input.
+//! The MCC error type (docs/design.md §8: "every error names the file and what is wrong with it").
+//! Each variant carries the file (or, for data handed over in memory, what the data is) and a
+//! message a user can act on; nothing in this crate prints or panics on bad input.
 
 use crate::collage::StrayReport;
 use std::path::PathBuf;
@@ -63,6 +63,12 @@ pub enum MccError {
         entry: String,
         /// What is wrong with it.
         message: String,
+    },
+    /// A collage file holds no camera pixels: there is nothing to remap from.
+    #[error("{}: has no camera pixels: there is nothing to remap from", path.display())]
+    EmptyCollage {
+        /// The collage file.
+        path: PathBuf,
     },
     /// Two inputs that must have the same resolution do not.
     #[error("{}: {what} is {}x{}, but {expected_from} is {}x{}", path.display(), found.0, found.1, expected.0, expected.1)]
@@ -130,9 +136,10 @@ pub enum MccError {
         /// What is wrong with the ray.
         message: String,
     },
-    /// Writing an output failed (the tracer's atomic writer names the file).
+    /// The tracer failed: writing an output (its atomic writer names the file) or rendering
+    /// (the error names the camera), or the caller cancelled a render.
     #[error(transparent)]
-    Write(#[from] TracerError),
+    Tracer(#[from] TracerError),
 }
 
 impl MccError {

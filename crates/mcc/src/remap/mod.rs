@@ -1,4 +1,4 @@
-//! The lens remapper (SPEC §5, normative): turns a decoded collage, its regions and the views' ray
+//! The lens remapper (docs/design.md §5): turns a decoded collage, its regions and the views' ray
 //! files into one ray per pixel. Camera pixels keep their camera's ray bit for bit; background
 //! pixels get a ray blended from the nearest edge pixels of every camera:
 //!
@@ -12,8 +12,8 @@
 //! Memory: a camera pixel only ever needs its own camera's ray, and e_c(P) is always a pixel of
 //! camera c, so the remapper keeps a single merged plane of source rays ([`SourceRays`]: R_id(p)(p)
 //! at every camera pixel) instead of every camera's file; [`SourceRays::load`] reads the files one
-//! at a time. Per camera it holds one u32 plane (e_c) and one f32 weight plane; a 4K collage with 16
-//! cameras peaks at about 1.5 GiB (measured by `benches/remap.rs`).
+//! at a time. Per camera it holds one u32 plane (e_c) and one f32 weight plane (peak memory:
+//! `benches/remap.rs`; docs/performance.md, ledger: "merged source-ray plane").
 
 pub mod burp;
 pub mod debug;
@@ -24,16 +24,15 @@ pub mod weights;
 
 pub use debug::RemapDebug;
 
-use crate::collage::{Collage, CollageOptions, StrayReport};
+use crate::collage::{Collage, StrayReport};
 use crate::error::{MccError, Result};
-use crate::layers::{CameraNames, open_collage};
 use crate::ray_file::{RayFile, StoredRay};
 use crate::regions::{RegionInfo, Regions};
 use std::collections::{BTreeMap, BTreeSet};
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-/// Remapper settings (SPEC §5.4); [`RemapConfig::GLASSNER`] is the default.
+/// Remapper settings (docs/design.md §5.4); [`RemapConfig::GLASSNER`] is the default.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RemapConfig {
     /// Radius of the first box blur (step 4a); 0 skips it.
@@ -204,7 +203,7 @@ pub fn remap(
     remap_sources(collage, regions, &SourceRays::gather(collage, files)?, frame, config)
 }
 
-/// Remaps a collage (SPEC §5): the returned rays are frame `frame`'s rerender rays.
+/// Remaps a collage (docs/design.md §5): the returned rays are frame `frame`'s rerender rays.
 pub fn remap_sources(
     collage: &Collage,
     regions: &Regions,
@@ -266,54 +265,6 @@ pub fn remap_sources(
     let mut rays = RayFile::new(collage.width, collage.height, frame, 0, rays)?;
     rays.computed = true;
     Ok(RemapOutput { rays, warnings, debug })
-}
-
-/// Everything [`remap_files`] reads.
-#[derive(Clone, Debug)]
-pub struct RemapInputs<'a> {
-    /// The collage: a tagged image, or a layered file (OpenRaster, PSD: `crate::layers`).
-    pub collage: &'a Path,
-    /// The region image (an image or a layered file); `None` takes the collage's `regions`
-    /// group, else `<collage-stem>-regions.png` beside the collage.
-    pub regions: Option<&'a Path>,
-    /// The directory holding the views' ray files (`frameFFFFcameraCC.{mcr|txt}`).
-    pub rays_dir: &'a Path,
-    /// The frame whose views to use.
-    pub frame: u32,
-    /// How to decode the collage.
-    pub collage_options: CollageOptions,
-}
-
-/// The whole remap stage from files: finds the frame's ray files, reads the collage (by its
-/// content: a tagged image or a layered file, [`open_collage`]) against them, finds the regions, loads the rays one file at a time and remaps. Stray pixels treated as
-/// background come back as a warning.
-pub fn remap_files(inputs: &RemapInputs<'_>, config: &RemapConfig) -> Result<RemapOutput> {
-    config.validate()?;
-    let paths = crate::names::find_view_rays(inputs.rays_dir, inputs.frame)?;
-    if paths.is_empty() {
-        return Err(MccError::Directory {
-            path: inputs.rays_dir.into(),
-            message: format!(
-                "no ray files for frame {} (looked for {} and the like)",
-                inputs.frame,
-                crate::names::view_rays_name(inputs.frame, 1, crate::RayFormat::Binary)
-            ),
-        });
-    }
-    let known: BTreeSet<u32> = paths.keys().copied().collect();
-    // A tagged image, or a layered file whose layers name their cameras (by id, or by the
-    // names the views' EXR headers record).
-    let names = CameraNames::from_views(known, inputs.rays_dir, inputs.frame);
-    let opened = open_collage(inputs.collage, inputs.regions, &names, inputs.collage_options)?;
-    let sources = SourceRays::load(&opened.collage, &paths)?;
-    let mut output = remap_sources(&opened.collage, &opened.regions, &sources, inputs.frame, config)?;
-    let mut first = Vec::new();
-    if !opened.strays.is_empty() {
-        first.push(RemapWarning::StraysIgnored(opened.strays));
-    }
-    first.extend(opened.notes.into_iter().map(RemapWarning::Layers));
-    output.warnings.splice(0..0, first);
-    Ok(output)
 }
 
 #[cfg(test)]

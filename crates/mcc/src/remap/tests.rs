@@ -1,22 +1,7 @@
-//! End-to-end tests of the remapper (SPEC §5) on small collages.
+//! End-to-end tests of the remapper (docs/design.md §5) on small collages.
 
 use super::*;
-use crate::test_util::{Rng, scratch_dir};
-use glam::Vec3;
-
-/// A pinhole-like view: camera `id` at its own position, looking along its own axis.
-fn view(id: u32, w: u32, h: u32) -> RayFile {
-    let eye = Vec3::new(id as f32, -(id as f32) * 0.5, 2.0 * id as f32);
-    let forward = if id.is_multiple_of(2) { Vec3::Z } else { -Vec3::Z }; // even and odd cameras face each other
-    let rays = (0..w * h)
-        .map(|p| {
-            let (x, y) = ((p % w) as f32 + 0.5, (p / w) as f32 + 0.5);
-            let d = forward + Vec3::new(x / w as f32 - 0.5, 0.5 - y / h as f32, 0.0) * 0.8;
-            StoredRay::new(eye, d.normalize())
-        })
-        .collect();
-    RayFile::new(w, h, 5, id, rays).unwrap()
-}
+use crate::test_util::{Rng, view};
 
 fn views(ids: &[u32], w: u32, h: u32) -> BTreeMap<u32, RayFile> {
     ids.iter().map(|&id| (id, view(id, w, h))).collect()
@@ -207,52 +192,6 @@ fn bad_inputs_are_errors() {
     assert!(remap(&collage, &Regions::single(w, h), &files, 0, &bad).is_err());
     let empty = Collage::new(w, h, vec![0; 24]).unwrap();
     assert!(remap(&empty, &Regions::single(w, h), &files, 0, &RemapConfig::GLASSNER).is_err());
-}
-
-#[test]
-fn remaps_from_files_and_writes_debug_pictures() {
-    let dir = scratch_dir("remap-files");
-    let (w, h) = (20, 12);
-    let code = crate::TagCode::default();
-    for id in [1, 2] {
-        view(id, w, h)
-            .write(
-                &dir.join(crate::names::view_rays_name(7, id, crate::RayFormat::Binary)),
-                crate::RayFormat::Binary,
-            )
-            .unwrap();
-    }
-    let img = image::RgbImage::from_fn(w, h, |x, y| {
-        image::Rgb(match x {
-            0..4 => code.encode([10, 20, 30], 1).unwrap(),
-            15.. => code.encode([0, 0, 0], 2).unwrap(),
-            _ if y == 0 && x == 8 => [100, 100, 100], // a stray
-            _ => [0, 0, 0],
-        })
-    });
-    let collage_path = dir.join("cut.png");
-    crate::png::write_png(&collage_path, &image::DynamicImage::ImageRgb8(img)).unwrap();
-    let mut inputs = RemapInputs {
-        collage: &collage_path,
-        regions: None,
-        rays_dir: &dir,
-        frame: 7,
-        collage_options: Default::default(),
-    };
-    let err = remap_files(&inputs, &RemapConfig::GLASSNER).unwrap_err().to_string();
-    assert!(err.contains("cut.png") && err.contains("(8, 0)"), "{err}");
-    inputs.collage_options.strays = crate::StrayPolicy::Background;
-    let config = RemapConfig { debug: true, ..RemapConfig::GLASSNER };
-    let out = remap_files(&inputs, &config).unwrap();
-    assert!(matches!(&out.warnings[..], [RemapWarning::StraysIgnored(r)] if r.count == 1));
-    assert_eq!(bits(out.rays.get(0, 0)), bits(view(1, w, h).get(0, 0)));
-    let written = out.debug.unwrap().write_pngs(&dir, 7).unwrap();
-    assert_eq!(written.len(), 5);
-    assert!(written.iter().all(|p| p.is_file()));
-    assert!(dir.join("debug-frame0007-camera02-weights.png").is_file());
-    let err = remap_files(&RemapInputs { frame: 8, ..inputs }, &config).unwrap_err().to_string();
-    assert!(err.contains("no ray files for frame 8"), "{err}");
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
