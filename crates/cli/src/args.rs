@@ -161,6 +161,35 @@ impl KeyArg {
     }
 }
 
+/// `--spp`: samples per pixel, 1 ..= 65536 (clap names the flag in the error; with `--split N`
+/// the renderer's limit is 65536 / N, checked with both flags known).
+pub fn spp(s: &str) -> Result<u32, String> {
+    let most = tracer::sampler::MAX_SAMPLES_PER_PIXEL;
+    let n = s.trim().parse::<u32>().map_err(|_| format!("'{s}' is not a whole number of samples"))?;
+    if n == 0 || n > most {
+        return Err(format!("{n} samples per pixel: must be 1 ..= {most}"));
+    }
+    Ok(n)
+}
+
+/// `--ease`: the remapper's ease control, strictly between 0 and 1 (docs/design.md §5.4).
+pub fn ease(s: &str) -> Result<f32, String> {
+    let g = s.trim().parse::<f32>().map_err(|_| format!("'{s}' is not a number"))?;
+    if !(g.is_finite() && g > 0.0 && g < 1.0) {
+        return Err(format!("ease control {g} must be strictly between 0 and 1 (0.5: no easing)"));
+    }
+    Ok(g)
+}
+
+/// `--tag-bits`, `--bits`: bits per channel of the camera tag, 1 to 8 (docs/design.md §4.4).
+pub fn tag_bits(s: &str) -> Result<u8, String> {
+    let bits = s.trim().parse::<u8>().map_err(|_| format!("'{s}' is not a whole number of bits"))?;
+    if !(1..=8).contains(&bits) {
+        return Err(format!("{bits} bits per channel: must be 1 to 8 (the camera tag code's width)"));
+    }
+    Ok(bits)
+}
+
 /// Ray-file encodings, for every command that writes ray files.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum RayFormatArg {
@@ -215,5 +244,20 @@ mod tests {
         assert!("x=a.mcr".parse::<KeyArg>().is_err());
         assert!("5=".parse::<KeyArg>().is_err());
         assert!("a.mcr".parse::<KeyArg>().is_err());
+    }
+
+    #[test]
+    fn ranges_of_spp_ease_and_tag_bits() {
+        assert_eq!(spp("1"), Ok(1));
+        assert_eq!(spp("65536"), Ok(65536));
+        assert_eq!(spp("0"), Err("0 samples per pixel: must be 1 ..= 65536".into()));
+        assert!(spp("65537").unwrap_err().contains("must be 1 ..= 65536"));
+        assert!(spp("-1").is_err());
+        assert_eq!(ease("0.75"), Ok(0.75));
+        assert!(ease("1.5").unwrap_err().contains("ease control 1.5 must be strictly between 0 and 1"));
+        assert!(ease("0").is_err() && ease("nan").is_err() && ease("x").is_err());
+        assert_eq!(tag_bits("2"), Ok(2));
+        assert!(tag_bits("9").unwrap_err().contains("9 bits per channel: must be 1 to 8"));
+        assert!(tag_bits("0").is_err());
     }
 }

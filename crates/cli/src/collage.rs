@@ -28,7 +28,7 @@ pub struct CollageArgs {
     #[arg(long, conflicts_with = "labels")]
     tag_labels: bool,
     /// Bits per channel of the tag code.
-    #[arg(long, default_value_t = 2)]
+    #[arg(long, default_value_t = 2, value_parser = crate::args::tag_bits)]
     tag_bits: u8,
     /// The collage PNG to write.
     #[arg(long)]

@@ -38,7 +38,7 @@ pub struct RenderArgs {
     #[arg(long)]
     pub tag: bool,
     /// Bits per channel of the camera tag (camera ids 1 … 2^(3·bits) − 1).
-    #[arg(long, default_value_t = mcc::TagCode::DEFAULT_BITS, value_name = "B")]
+    #[arg(long, default_value_t = mcc::TagCode::DEFAULT_BITS, value_name = "B", value_parser = crate::args::tag_bits)]
     pub tag_bits: u8,
     /// Encoding of ray files.
     #[arg(long, value_enum, default_value = "binary")]
@@ -100,10 +100,14 @@ pub fn run(a: RenderArgs) -> anyhow::Result<()> {
             rays: a.lens_writer.then(|| a.ray_format.into()),
             tag: a.tag.then_some(code),
         };
-        let (rendered, _) = with_threads(q.threads, || job.run(&bars))??;
+        let (rendered, files) = with_threads(q.threads, || job.run(&bars))??;
         warn_nonfinite(&view.desc.name, &rendered);
         if !q.quiet {
             eprintln!("{}", summary(&view.desc.name, q.spp, &rendered, exr));
+            // The ray file is named by the view's frame and id (docs/design.md §4.3), not by --out.
+            if let Some(rays) = &files.rays {
+                eprintln!("{}: rays -> {}", view.desc.name, rays.display());
+            }
         }
         if a.layers.is_some() {
             layers.push((view.id, &view.desc.name, mcc::layers::openraster::srgb8(&rendered.images.image)));

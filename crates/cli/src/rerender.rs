@@ -32,7 +32,8 @@ pub struct RerenderArgs {
     /// Frames per second: the scene time of frame F is F / FPS seconds.
     #[arg(long, default_value_t = SceneSetup::DEFAULT_FPS)]
     pub fps: f32,
-    /// Drop an N-pixel border (in collage pixels) rendered with `render --overscan N`.
+    /// Drop an N-pixel border (in collage pixels) rendered with `render --overscan N`; --res is
+    /// then the size of what is left.
     #[arg(long, default_value_t = 0, value_name = "N")]
     pub crop: u32,
     /// Output image (.exr; a PNG preview goes beside it). The remapped rays are saved beside it
@@ -57,9 +58,9 @@ pub fn render_through(
 ) -> anyhow::Result<PathBuf> {
     // Checked before the scene is loaded and rendered: a bad value fails at once and leaves
     // nothing behind.
-    if job.output_crop().is_none() {
-        let film = job.film_size();
-        bail!("--crop {} leaves nothing of a {}x{} image", job.crop, film.x, film.y);
+    if job.framing().is_none() {
+        let size = job.rays_size();
+        bail!("--crop {} leaves nothing of a {}x{} image", job.crop, size.x, size.y);
     }
     let setup = q.scene_setup(fps)?;
     let loaded = load_scene(scene, &setup, q.quiet)?;
@@ -88,6 +89,9 @@ pub fn run(a: RerenderArgs) -> anyhow::Result<()> {
         }
     };
     let job = Rerender { resolution: q.res.map(|r| r.0), crop: a.crop, quality: q.quality(), ..job };
+    if let (Some(res), Some(w)) = (q.res, job.stretch_warning()) {
+        eprintln!("warning: --res {res}: {w}");
+    }
     render_through(&a.scene, a.fps, &job, q, &a.out)?;
     // The remapped rays are saved only once the render has succeeded: a run that fails (a bad
     // --crop, --spp, scene …) leaves no output behind (docs/design.md §8).

@@ -13,7 +13,7 @@ pub struct TagArgs {
     #[arg(long)]
     camera: u32,
     /// Bits per channel used for the tag.
-    #[arg(long, default_value_t = 2)]
+    #[arg(long, default_value_t = 2, value_parser = crate::args::tag_bits)]
     bits: u8,
     /// The tagged PNG to write.
     #[arg(long)]

@@ -100,13 +100,19 @@ impl FilmImages {
     /// Every image without a border of `n` pixels on each side (undoing a camera's overscan);
     /// `None` when the border leaves no pixel.
     pub fn without_border(&self, n: u32) -> Option<Self> {
+        self.without_margins(n, n)
+    }
+
+    /// Every image without `nx` columns on the left and right and `ny` rows at the top and
+    /// bottom (a border scaled to an output of another aspect); `None` when nothing is left.
+    pub fn without_margins(&self, nx: u32, ny: u32) -> Option<Self> {
         let (w, h) = (self.image.width, self.image.height);
-        if 2 * n as u64 >= w as u64 || 2 * n as u64 >= h as u64 {
+        if 2 * nx as u64 >= w as u64 || 2 * ny as u64 >= h as u64 {
             return None;
         }
-        let (cw, ch) = (w - 2 * n, h - 2 * n);
-        let rgb = |x: &RgbImage| x.crop(n, n, cw, ch);
-        let gray = |x: &GrayImage| x.crop(n, n, cw, ch);
+        let (cw, ch) = (w - 2 * nx, h - 2 * ny);
+        let rgb = |x: &RgbImage| x.crop(nx, ny, cw, ch);
+        let gray = |x: &GrayImage| x.crop(nx, ny, cw, ch);
         Some(Self {
             image: rgb(&self.image)?,
             variance: rgb(&self.variance)?,

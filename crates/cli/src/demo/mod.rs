@@ -21,7 +21,7 @@ pub struct DemoArgs {
     pub(crate) out: Option<PathBuf>,
     /// Samples per pixel of every render (default 32; with --animation: of the key frames'
     /// source views, default 8).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::args::spp)]
     pub(crate) spp: Option<u32>,
     /// Resolution of the views and of the final picture (default 480x270, the bundled mask's;
     /// with --animation: of the key frames' source views, default 240x135).
@@ -44,7 +44,7 @@ pub struct DemoArgs {
     #[arg(long, default_value = "160x90", value_name = "WxH")]
     pub(crate) frame_res: Resolution,
     /// With --animation: samples per pixel of the animated frames.
-    #[arg(long, default_value_t = 8)]
+    #[arg(long, default_value_t = 8, value_parser = crate::args::spp)]
     pub(crate) frame_spp: u32,
 }
 

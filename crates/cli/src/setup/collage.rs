@@ -38,7 +38,7 @@ pub struct RemapSettingsArgs {
     #[arg(long)]
     pub ignore_strays: bool,
     /// Bits per channel of the camera tag.
-    #[arg(long, default_value_t = TagCode::DEFAULT_BITS)]
+    #[arg(long, default_value_t = TagCode::DEFAULT_BITS, value_parser = crate::args::tag_bits)]
     pub tag_bits: u8,
     /// Radius of the remapper's first box blur.
     #[arg(long, default_value_t = RemapConfig::GLASSNER.first_blur_radius)]
@@ -47,7 +47,7 @@ pub struct RemapSettingsArgs {
     #[arg(long, default_value_t = RemapConfig::GLASSNER.second_blur_radius)]
     pub blur2: u32,
     /// Control value of the remapper's ease curve (0.5: no easing).
-    #[arg(long, default_value_t = RemapConfig::GLASSNER.ease_control)]
+    #[arg(long, default_value_t = RemapConfig::GLASSNER.ease_control, value_parser = crate::args::ease)]
     pub ease: f32,
 }
 
@@ -106,6 +106,9 @@ pub fn remap(job: &RemapJob, quiet: bool) -> anyhow::Result<Remapped> {
     let done = job.run()?;
     if !quiet {
         let collage = job.input.collage.display();
+        if let Some(found) = &done.regions_found {
+            eprintln!("regions: {} (found beside {collage}; --regions chooses another)", found.display());
+        }
         for w in &done.output.warnings {
             eprintln!("warning: {collage}: {w}");
         }

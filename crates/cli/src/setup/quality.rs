@@ -13,7 +13,7 @@ use tracer::scene::SpotFalloff;
 #[derive(Args, Debug, Clone)]
 pub struct QualityArgs {
     /// Samples per pixel (1 … 65536; with --split N, 1 … 65536 / N).
-    #[arg(long, default_value_t = Quality::DEFAULT.spp)]
+    #[arg(long, default_value_t = Quality::DEFAULT.spp, value_parser = crate::args::spp)]
     pub spp: u32,
     /// Output resolution (default 640x360; for `rerender` and `animate`, the ray file's).
     #[arg(long, value_name = "WxH")]
@@ -126,6 +126,17 @@ impl QualityArgs {
     pub fn scene_setup(&self, fps: f32) -> anyhow::Result<SceneSetup> {
         if !(fps.is_finite() && fps > 0.0) {
             bail!("--fps {fps}: the frame rate must be a positive number of frames per second");
+        }
+        // Each sample's split branches take sample indices of their own: the renderer's limit
+        // is 65536 / N, said here with both flags named.
+        let most = tracer::sampler::MAX_SAMPLES_PER_PIXEL / self.split;
+        if self.spp > most {
+            bail!(
+                "--spp {} with --split {}: {} samples per pixel: must be 1 ..= {most}",
+                self.spp,
+                self.split,
+                self.spp
+            );
         }
         Ok(SceneSetup {
             fps,

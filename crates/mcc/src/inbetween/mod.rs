@@ -207,6 +207,12 @@ impl Keys {
     /// refused with its name. Each key is resampled as soon as it is read, so only one copy of
     /// each is held.
     pub fn load(keys: &[(u32, PathBuf)], resolution: Option<UVec2>) -> Result<Self> {
+        Self::load_cropped(keys, 0, resolution)
+    }
+
+    /// [`Self::load`], each key first cut by a border of `crop` of its own pixels (the overscan
+    /// its views were rendered with); `resolution` is then the size after the crop.
+    pub fn load_cropped(keys: &[(u32, PathBuf)], crop: u32, resolution: Option<UVec2>) -> Result<Self> {
         if keys.is_empty() {
             return Err(no_keys());
         }
@@ -230,7 +236,7 @@ impl Keys {
         }
         let mut loaded = Vec::with_capacity(order.len());
         for (frame, path) in order {
-            let rays = RayFile::read(path)?;
+            let rays = crop_key(RayFile::read(path)?, crop).map_err(|m| MccError::ray_file(path, m))?;
             let res = *resolution.get_or_insert(UVec2::new(rays.width, rays.height));
             let what = || format!("key at frame {frame} ({})", path.display());
             loaded.push(Key { frame: *frame, rays: resample(rays, res).map_err(|e| rename(e, what()))? });
@@ -403,6 +409,15 @@ pub fn write_frames(
 
 fn empty_file() -> RayFile {
     RayFile { width: 0, height: 0, frame: 0, camera_id: 0, computed: true, rays: Vec::new() }
+}
+
+/// `rays` without a border of `crop` pixels (an overscan cut off), or why not.
+pub fn crop_key(rays: RayFile, crop: u32) -> std::result::Result<RayFile, String> {
+    if crop == 0 {
+        return Ok(rays);
+    }
+    rays.without_border(crop)
+        .ok_or_else(|| format!("crop {crop} leaves nothing of a {}x{} key", rays.width, rays.height))
 }
 
 fn no_keys() -> MccError {

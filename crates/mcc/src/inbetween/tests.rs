@@ -458,3 +458,23 @@ fn write_frames_writes_computed_rerender_files() {
     assert!(e.to_string().contains("rerender-frame0009.mcr"), "{e}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Keys loaded with a crop lose the border of their own pixels before resampling: a key's
+/// inner rays come back bit for bit; a crop that leaves nothing names the file.
+#[test]
+fn keys_load_cropped() {
+    let dir = scratch_dir("inbetween-crop");
+    let (a, b) = (dir.join("a.mcr"), dir.join("b.mcr"));
+    let keys = random_keys(8, 6, &[0, 4], 18);
+    for (path, (_, key)) in [&a, &b].into_iter().zip(&keys) {
+        key.write(path, RayFormat::Binary).unwrap();
+    }
+    let cropped = Keys::load_cropped(&[(0, a.clone()), (4, b.clone())], 2, None).unwrap();
+    assert_eq!(cropped.resolution(), UVec2::new(4, 2));
+    assert!(same_bits(cropped.key_rays(0), &keys[0].1.without_border(2).unwrap().rays));
+    let frame = cropped.frame(4, InbetweenMode::Smooth);
+    assert!(same_bits(&frame.rays, &keys[1].1.without_border(2).unwrap().rays));
+    let e = Keys::load_cropped(&[(0, a)], 3, None).unwrap_err().to_string();
+    assert!(e.contains("a.mcr") && e.contains("crop 3 leaves nothing of a 8x6 key"), "{e}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -17,5 +17,5 @@ mod rerender;
 mod view;
 
 pub use remap::{CollageFiles, RemapJob, Remapped};
-pub use rerender::{Rerender, carrier_camera};
+pub use rerender::{Framing, Rerender, carrier_camera, stretch_warning};
 pub use view::{ViewFiles, ViewRender};

@@ -4,7 +4,7 @@
 
 use crate::collage::CollageOptions;
 use crate::error::{MccError, Result};
-use crate::layers::{CameraNames, open_collage};
+use crate::layers::{CameraNames, RegionSource, open_collage};
 use crate::names::{find_view_rays, view_rays_name};
 use crate::ray_file::RayFormat;
 use crate::remap::{RemapConfig, RemapOutput, RemapWarning, SourceRays, remap_sources};
@@ -45,6 +45,12 @@ impl CollageFiles {
     /// the rays one file at a time and remaps. Stray pixels treated as background, and notes
     /// about a layered file's layers, come back as warnings; every error names its file.
     pub fn remap(&self, config: &RemapConfig) -> Result<RemapOutput> {
+        Ok(self.remap_with_regions(config)?.0)
+    }
+
+    /// [`Self::remap`], also saying where the regions came from (given, found beside the
+    /// collage, the collage's own group, or none).
+    pub fn remap_with_regions(&self, config: &RemapConfig) -> Result<(RemapOutput, RegionSource)> {
         config.validate()?;
         let paths = find_view_rays(&self.rays_dir, self.frame)?;
         if paths.is_empty() {
@@ -73,7 +79,7 @@ impl CollageFiles {
         }
         first.extend(opened.notes.into_iter().map(RemapWarning::Layers));
         output.warnings.splice(0..0, first);
-        Ok(output)
+        Ok((output, opened.regions_from))
     }
 }
 
@@ -95,6 +101,9 @@ pub struct Remapped {
     pub output: RemapOutput,
     /// The debug pictures written, if any.
     pub debug_pictures: Vec<PathBuf>,
+    /// The region image found beside the collage and used, when none was given (a file the
+    /// caller did not name changes the remap: say so).
+    pub regions_found: Option<PathBuf>,
 }
 
 impl RemapJob {
@@ -106,13 +115,17 @@ impl RemapJob {
     /// Remaps, then writes the debug pictures (`debug-frameFFFF-…png`) if asked.
     pub fn run(&self) -> Result<Remapped> {
         let config = RemapConfig { debug: self.config.debug || self.debug_dir.is_some(), ..self.config };
-        let output = self.input.remap(&config)?;
+        let (output, regions_from) = self.input.remap_with_regions(&config)?;
+        let regions_found = match regions_from {
+            RegionSource::File(path) if self.input.regions.is_none() => Some(path),
+            _ => None,
+        };
         let mut debug_pictures = Vec::new();
         if let (Some(dir), Some(debug)) = (&self.debug_dir, &output.debug) {
             std::fs::create_dir_all(dir).map_err(|e| MccError::io(dir, e))?;
             debug_pictures = debug.write_pngs(dir, self.input.frame)?;
         }
-        Ok(Remapped { output, debug_pictures })
+        Ok(Remapped { output, debug_pictures, regions_found })
     }
 }
 
@@ -171,6 +184,7 @@ mod tests {
         assert!(matches!(&done.output.warnings[..], [RemapWarning::StraysIgnored(r)] if r.count == 1));
         assert_eq!(bits(done.output.rays.get(0, 0)), bits(view(1, 20, 12).get(0, 0)));
         assert_eq!(done.debug_pictures.len(), 5);
+        assert_eq!(done.regions_found, None);
         assert!(done.debug_pictures.iter().all(|p| p.is_file()));
         assert!(dir.join("debug/debug-frame0007-camera02-weights.png").is_file());
         let saved = dir.join("out/rerender-frame0007.mcr");
@@ -178,6 +192,23 @@ mod tests {
         assert_eq!(RayFile::read(&saved).unwrap().rays, done.output.rays.rays);
         let err = CollageFiles { frame: 8, ..input }.remap(&RemapConfig::GLASSNER).unwrap_err().to_string();
         assert!(err.contains("no ray files for frame 8"), "{err}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A region image beside the collage is used and named; a given one is not "found".
+    #[test]
+    fn names_the_region_image_found_beside_the_collage() {
+        let dir = scratch_dir("remap-found-regions");
+        let collage = cut(&dir, true);
+        let beside = dir.join("cut-regions.png");
+        let halves = image::RgbImage::from_fn(20, 12, |_, y| {
+            image::Rgb(if y < 6 { [255, 0, 0] } else { [0, 0, 255] })
+        });
+        crate::png::write_png(&beside, &image::DynamicImage::ImageRgb8(halves)).unwrap();
+        let input = CollageFiles::new(&collage, &dir, 7);
+        assert_eq!(RemapJob::new(input.clone()).run().unwrap().regions_found, Some(beside.clone()));
+        let given = CollageFiles { regions: Some(beside), ..input };
+        assert_eq!(RemapJob::new(given).run().unwrap().regions_found, None);
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

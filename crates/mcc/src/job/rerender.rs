@@ -24,12 +24,69 @@ pub fn carrier_camera(resolution: UVec2) -> tracer::Result<Box<dyn Camera>> {
     CameraDesc::look_at("lens reader", Vec3::ZERO, -Vec3::Z, Vec3::Y, projection)?.build(resolution)
 }
 
+/// How the film of a render through a ray file is framed when an overscan border is cut off:
+/// the film spans the whole ray file, and `border` film pixels go from each side.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Framing {
+    /// The film rendered, before the crop.
+    pub film: UVec2,
+    /// Columns cut from the left and right (x) and rows from the top and bottom (y).
+    pub border: UVec2,
+}
+
+impl Framing {
+    /// The framing of rays `rays` (width × height, in collage pixels) with a border of `crop`
+    /// collage pixels cut, the rest shown at `output` pixels (`None`: one pixel per ray).
+    /// `None` when the crop leaves nothing of the rays.
+    pub fn new(rays: UVec2, crop: u32, output: Option<UVec2>) -> Option<Self> {
+        if 2 * crop as u64 >= rays.x.min(rays.y) as u64 {
+            return None;
+        }
+        let inner = rays - 2 * crop;
+        let output = output.unwrap_or(inner);
+        // The border scales with the picture, per axis, so `output` is exactly what is left.
+        let scale = |out: u32, inner: u32| (crop as f64 * out as f64 / inner as f64).round() as u32;
+        let border = UVec2::new(scale(output.x, inner.x), scale(output.y, inner.y));
+        Some(Self { film: output + 2 * border, border })
+    }
+
+    /// The output size, after the crop.
+    pub fn output(&self) -> UVec2 {
+        self.film - 2 * self.border
+    }
+
+    /// `rendered` (at the film size) without the border.
+    pub fn crop(&self, mut rendered: Rendered) -> Rendered {
+        if self.border != UVec2::ZERO {
+            rendered.images = rendered
+                .images
+                .without_margins(self.border.x, self.border.y)
+                .expect("the border leaves the output");
+        }
+        rendered
+    }
+}
+
+/// A warning when an output of `output` pixels shows `shown` collage pixels at another aspect
+/// ratio (more than 1 % off): the picture is stretched.
+pub fn stretch_warning(shown: UVec2, output: UVec2) -> Option<String> {
+    let aspect = |s: UVec2| s.x as f64 / s.y as f64;
+    let (from, to) = (aspect(shown), aspect(output));
+    ((to / from - 1.0).abs() > 0.01).then(|| {
+        format!(
+            "the output {}x{} (aspect {to:.2}) shows {}x{} collage pixels (aspect {from:.2}): the picture is \
+             stretched",
+            output.x, output.y, shown.x, shown.y
+        )
+    })
+}
+
 /// A rerender: the scene through `rays`, one frame.
 #[derive(Clone, Debug)]
 pub struct Rerender {
     /// The remapped rays (one per collage pixel).
     pub rays: Arc<RayFile>,
-    /// The output resolution; `None`: the rays'.
+    /// The output resolution, after the crop; `None`: the rays' less the crop.
     pub resolution: Option<UVec2>,
     /// A border to cut from every side, in collage pixels (undoes `--overscan`).
     pub crop: u32,
@@ -50,27 +107,30 @@ impl Rerender {
         Ok(Self::new(RayFile::read(path)?, frame))
     }
 
-    /// The film size before cropping.
-    pub fn film_size(&self) -> UVec2 {
-        self.resolution.unwrap_or(UVec2::new(self.rays.width, self.rays.height))
+    /// The size of the rays (the collage's, overscan border included).
+    pub fn rays_size(&self) -> UVec2 {
+        UVec2::new(self.rays.width, self.rays.height)
     }
 
-    /// The border cut from the film, in output pixels (the crop scaled from the collage's
-    /// width to the film's); `None` when it leaves nothing of the film.
-    pub fn output_crop(&self) -> Option<u32> {
-        let res = self.film_size();
-        let n = (self.crop as f64 * res.x as f64 / self.rays.width as f64).round() as u32;
-        (n == 0 || (2 * n as u64) < res.x.min(res.y) as u64).then_some(n)
+    /// The film and the border cut from it; `None` when the crop leaves nothing of the rays.
+    pub fn framing(&self) -> Option<Framing> {
+        Framing::new(self.rays_size(), self.crop, self.resolution)
+    }
+
+    /// A warning when the output resolution stretches the collage (another aspect ratio).
+    pub fn stretch_warning(&self) -> Option<String> {
+        let shown = self.rays_size().saturating_sub(UVec2::splat(2 * self.crop));
+        stretch_warning(shown, self.resolution?)
     }
 
     /// Renders `tracer`'s scene (posed at this frame, prepared with `quality.tracer`) through
     /// the rays and crops the film. The crop is checked before anything is traced.
     pub fn run(&self, tracer: &PathTracer, progress: &dyn Progress) -> Result<Rendered> {
-        let film = self.film_size();
-        let crop = self.output_crop().ok_or_else(|| {
-            MccError::Settings(format!("crop {} leaves nothing of a {}x{} image", self.crop, film.x, film.y))
+        let size = self.rays_size();
+        let framing = self.framing().ok_or_else(|| {
+            MccError::Settings(format!("crop {} leaves nothing of a {}x{} image", self.crop, size.x, size.y))
         })?;
-        let camera = carrier_camera(film)?;
+        let camera = carrier_camera(framing.film)?;
         let mut lenses = LensChain::new();
         lenses.push(Box::new(LensReader::new(RaySource::Rays(Arc::clone(&self.rays)))));
         let job = CameraRender {
@@ -82,11 +142,7 @@ impl Rerender {
             shutter: (0.0, 0.0),
             quality: self.quality,
         };
-        let mut rendered = job.run(&mut lenses, progress)?;
-        if crop > 0 {
-            rendered.images = rendered.images.without_border(crop).expect("output_crop checked the border");
-        }
-        Ok(rendered)
+        Ok(framing.crop(job.run(&mut lenses, progress)?))
     }
 
     /// Writes a finished rerender of `scene` to `exr` and its preview PNG beside it; returns
@@ -126,31 +182,65 @@ mod tests {
         }
     }
 
-    /// The crop is given in collage pixels and scaled to the film; one that leaves nothing is
-    /// refused before anything is traced; a cancelled rerender says so.
+    /// The crop is given in collage pixels and scaled to the film; the resolution is the
+    /// output's, after the crop; a crop that leaves nothing is refused before anything is
+    /// traced; a cancelled rerender says so.
     #[test]
     fn crops_in_collage_pixels_and_refuses_what_leaves_nothing() {
         let sky = Vec3::new(0.5, 0.25, 0.125);
         let quality = Quality::DEFAULT.with_spp(1);
         let tracer = quality.tracer(&sky_scene(sky)).unwrap();
         let job = Rerender {
-            resolution: Some(UVec2::new(20, 16)),
+            resolution: Some(UVec2::new(12, 8)),
             crop: 2,
             quality,
             ..Rerender::new(rays(10, 8), 0)
         };
-        assert_eq!(job.output_crop(), Some(4));
+        // 6 x 4 collage pixels are left, shown at 12 x 8: the 2-pixel border becomes 4.
+        assert_eq!(job.framing(), Some(Framing { film: UVec2::new(20, 16), border: UVec2::new(4, 4) }));
+        assert_eq!(job.stretch_warning(), None);
         let rendered = job.run(&tracer, &NoProgress).unwrap();
         let image = &rendered.images.image;
         assert_eq!((image.width, image.height), (12, 8));
         assert!(image.pixels.iter().all(|p| *p == sky));
         assert_eq!(rendered.images.samples.width, 12);
+        let native = Rerender { resolution: None, ..job.clone() }.run(&tracer, &NoProgress).unwrap();
+        assert_eq!((native.images.image.width, native.images.image.height), (6, 4));
 
         let whole = Rerender { crop: 4, resolution: None, ..job.clone() };
-        assert_eq!(whole.output_crop(), None);
+        assert_eq!(whole.framing(), None);
         let err = whole.run(&tracer, &NoProgress).unwrap_err().to_string();
         assert!(err.contains("crop 4 leaves nothing of a 10x8 image"), "{err}");
+        let err = Rerender { resolution: Some(UVec2::new(20, 20)), ..whole }.run(&tracer, &NoProgress);
+        assert!(err.unwrap_err().to_string().contains("crop 4 leaves nothing of a 10x8 image"));
         let err = job.run(&tracer, &Stop).unwrap_err();
         assert!(matches!(err, MccError::Tracer(TracerError::Cancelled)), "{err}");
+    }
+
+    /// What a first-time user hit: 176 x 106 overscanned views, `--crop 8 --res 320x180` must
+    /// write 320 x 180; an output of another aspect, or of one axis scaled differently, keeps
+    /// its size exactly and is said to stretch.
+    #[test]
+    fn the_resolution_is_the_output_after_the_crop() {
+        let f = Framing::new(UVec2::new(176, 106), 8, Some(UVec2::new(320, 180))).unwrap();
+        assert_eq!(
+            (f.film, f.border, f.output()),
+            (UVec2::new(352, 212), UVec2::new(16, 16), UVec2::new(320, 180))
+        );
+        let f = Framing::new(UVec2::new(176, 106), 8, None).unwrap();
+        assert_eq!(
+            (f.film, f.border, f.output()),
+            (UVec2::new(176, 106), UVec2::new(8, 8), UVec2::new(160, 90))
+        );
+        let f = Framing::new(UVec2::new(176, 106), 8, Some(UVec2::new(100, 100))).unwrap();
+        assert_eq!(f.output(), UVec2::new(100, 100));
+        assert_eq!(Framing::new(UVec2::new(176, 106), 53, None), None);
+        let w = stretch_warning(UVec2::new(160, 90), UVec2::new(100, 100)).unwrap();
+        assert!(
+            w.contains("100x100 (aspect 1.00)") && w.contains("160x90") && w.contains("(aspect 1.78)"),
+            "{w}"
+        );
+        assert_eq!(stretch_warning(UVec2::new(160, 90), UVec2::new(320, 180)), None);
+        assert_eq!(stretch_warning(UVec2::new(160, 90), UVec2::new(321, 180)), None);
     }
 }

@@ -165,6 +165,25 @@ impl RayFile {
         &self.rays[j as usize * self.width as usize + i as usize]
     }
 
+    /// The rays without a border of `n` pixels on each side (an overscan cut off, docs/design.md
+    /// §8); `None` when the border leaves no pixel.
+    pub fn without_border(&self, n: u32) -> Option<Self> {
+        if 2 * n as u64 >= self.width.min(self.height) as u64 {
+            return None;
+        }
+        let (w, h) = (self.width - 2 * n, self.height - 2 * n);
+        let rays =
+            (n..n + h).flat_map(|j| (n..n + w).map(move |i| (i, j))).map(|(i, j)| *self.get(i, j)).collect();
+        Some(Self {
+            width: w,
+            height: h,
+            frame: self.frame,
+            camera_id: self.camera_id,
+            computed: self.computed,
+            rays,
+        })
+    }
+
     /// Reads a ray file in either encoding (told apart by its first bytes).
     pub fn read(path: &Path) -> Result<Self> {
         let mut file = File::open(path).map_err(|e| MccError::io(path, e))?;

@@ -222,3 +222,16 @@ fn missing_files_and_bad_rays_on_write_are_errors() {
     assert!(RayFile::new(2, 2, 0, 0, vec![StoredRay::default(); 3]).is_err());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Cutting a border keeps the inner rays bit for bit, in place, and the header's fields.
+#[test]
+fn a_border_is_cut_exactly() {
+    let f = RayFile { frame: 7, camera_id: 3, ..sample(9, 6, 11) };
+    let inner = f.without_border(2).unwrap();
+    assert_eq!((inner.width, inner.height, inner.frame, inner.camera_id), (5, 2, 7, 3));
+    for (i, j) in [(0, 0), (4, 0), (2, 1), (4, 1)] {
+        assert_eq!(bytemuck::bytes_of(inner.get(i, j)), bytemuck::bytes_of(f.get(i + 2, j + 2)));
+    }
+    assert_eq!(f.without_border(0).map(|g| bits(&g)), Some(bits(&f)));
+    assert!(f.without_border(3).is_none());
+}
