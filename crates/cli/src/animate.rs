@@ -11,7 +11,7 @@
 
 use crate::args::{FrameRange, Shutter};
 use crate::preview::{GIF_NAME, finished_frames, write_gif};
-use crate::progress::Bars;
+use crate::progress::ShotBar;
 use crate::setup::output::{summary, warn_nonfinite};
 use crate::setup::quality::QualityArgs;
 use crate::setup::scene::load_scene;
@@ -19,9 +19,9 @@ use crate::with_threads;
 use anyhow::{Context, bail};
 use clap::{Args, ValueEnum};
 use glam::UVec2;
-use mcc::job::carrier_camera;
+use mcc::job::{Framing, LENS_DIR_KEY, carrier_camera};
 use std::path::{Path, PathBuf};
-use tracer::job::{CameraRender, RenderInfo, SceneSetup, write_render};
+use tracer::job::{CameraRender, Provenance, RenderInfo, SceneSetup, write_render};
 use tracer::lens::LensChain;
 
 /// Preview kinds.
@@ -57,6 +57,10 @@ pub struct AnimateArgs {
     /// f+1. No object motion blur: moving geometry is sampled at the frame's time.
     #[arg(long, value_name = "OPEN..CLOSE")]
     pub shutter: Option<Shutter>,
+    /// Drop an N-pixel border (in the ray files' pixels) rendered with `render --overscan N`;
+    /// --res is then the size of what is left.
+    #[arg(long, default_value_t = 0, value_name = "N")]
+    pub crop: u32,
     /// Preview of the finished frames written after rendering.
     #[arg(long, value_enum, default_value = "gif")]
     pub preview: PreviewArg,
@@ -90,14 +94,20 @@ pub struct AnimateReport {
     pub preview: Option<PathBuf>,
 }
 
-/// The film size: --res, or the first frame's ray file's.
-fn film_size(a: &AnimateArgs, first: u32) -> anyhow::Result<UVec2> {
-    if let Some(r) = a.quality.res {
-        return Ok(r.0);
-    }
-    let path = mcc::names::find_rerender_rays(&a.lens_dir, first)?;
-    let rays = mcc::RayFile::read(&path)?;
-    Ok(UVec2::new(rays.width, rays.height))
+/// The film and its crop: --res (the size after --crop) and the first frame's ray file's size.
+fn framing(a: &AnimateArgs, first: u32) -> anyhow::Result<Framing> {
+    let res = a.quality.res.map(|r| r.0);
+    let rays = match res {
+        // Without a crop the film is --res itself: no ray file need be read.
+        Some(r) if a.crop == 0 => return Ok(Framing { film: r, border: UVec2::ZERO }),
+        _ => {
+            let path = mcc::names::find_rerender_rays(&a.lens_dir, first)?;
+            let rays = mcc::RayFile::read(&path)?;
+            UVec2::new(rays.width, rays.height)
+        }
+    };
+    Framing::new(rays, a.crop, res)
+        .ok_or_else(|| anyhow::anyhow!("--crop {} leaves nothing of a {}x{} image", a.crop, rays.x, rays.y))
 }
 
 /// Renders the frames `a` asks for that are not finished, then the preview.
@@ -125,12 +135,14 @@ pub fn animate(a: &AnimateArgs) -> anyhow::Result<AnimateReport> {
         let base = load_scene(&a.scene, &setup, q.quiet)?;
         // A static scene gets one BVH for the whole run; an animated one is posed per frame.
         let still = if base.animation.is_none() { Some(quality.tracer(&base)?) } else { None };
-        let camera = carrier_camera(film_size(a, first)?)?;
+        let framing = framing(a, first)?;
+        let camera = carrier_camera(framing.film)?;
         let reader = mcc::LensReader::new(mcc::lens_reader::RaySource::Directory(a.lens_dir.clone()))
             .with_motion_blur(shutter.1 > shutter.0);
         let mut lenses = LensChain::new();
         lenses.push(Box::new(reader));
-        let bars = Bars::new(q.quiet);
+        let shot = ShotBar::new(todo.len() as u64, q.quiet);
+        let bars = shot.frame_bars();
         for &frame in &todo {
             let posed;
             let tracer = match &still {
@@ -155,15 +167,21 @@ pub fn animate(a: &AnimateArgs) -> anyhow::Result<AnimateReport> {
             };
             let rendered = with_threads(q.threads, || job.run(&mut lenses, &bars))?
                 .with_context(|| format!("frame {frame} (rays from {})", a.lens_dir.display()))?;
+            let rendered = framing.crop(rendered);
             warn_nonfinite(&name, &rendered);
             let exr = frame_exr(&a.out, frame);
-            let info = RenderInfo { scene: &a.scene, camera: ANIMATED, frame, quality: &quality };
+            let provenance = Provenance {
+                projection: None,
+                environment_map: setup.environment_image.as_ref(),
+                rays_from: Some((LENS_DIR_KEY, &a.lens_dir)),
+            };
+            let info =
+                RenderInfo { shutter, provenance, ..RenderInfo::new(&a.scene, ANIMATED, frame, &quality) };
             write_render(&exr, &rendered, &info)?;
-            if !q.quiet {
-                eprintln!("{}", summary(&name, q.spp, &rendered, &exr));
-            }
+            shot.frame_done(&summary(&name, q.spp, &rendered, &exr));
             report.rendered.push(frame);
         }
+        shot.finish();
     }
     if a.preview == PreviewArg::Gif {
         let frames = finished_frames(&a.out)?;

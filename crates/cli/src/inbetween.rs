@@ -48,6 +48,10 @@ pub struct InbetweenOutputArgs {
     /// Encoding of the ray files.
     #[arg(long, value_enum, default_value = "binary")]
     pub ray_format: RayFormatArg,
+    /// Drop an N-pixel border from every key (in its own pixels) rendered with `render
+    /// --overscan N`: the frames hold the picture only; --res is then the size of what is left.
+    #[arg(long, default_value_t = 0, value_name = "N")]
+    pub crop: u32,
     /// No progress bar or summary.
     #[arg(long, short)]
     pub quiet: bool,
@@ -94,18 +98,18 @@ pub fn write_inbetweens(keys: &Keys, o: &InbetweenOutputArgs) -> anyhow::Result<
 }
 
 /// Loads the key files, refusing a missing one by name before anything is written.
-fn load_keys(keys: &[KeyArg], res: Option<Resolution>) -> anyhow::Result<Keys> {
+fn load_keys(keys: &[KeyArg], crop: u32, res: Option<Resolution>) -> anyhow::Result<Keys> {
     let pairs: Vec<(u32, PathBuf)> = keys.iter().map(|k| (k.frame, k.path())).collect();
     for (frame, path) in &pairs {
         if !Path::new(path).is_file() {
             anyhow::bail!("key at frame {frame}: {} is not a file (or cannot be reached)", path.display());
         }
     }
-    Ok(Keys::load(&pairs, res.map(|r| r.0))?)
+    Ok(Keys::load_cropped(&pairs, crop, res.map(|r| r.0))?)
 }
 
 pub fn run(a: InbetweenArgs) -> anyhow::Result<()> {
-    let keys = load_keys(&a.keys, a.output.res)?;
+    let keys = load_keys(&a.keys, a.output.crop, a.output.res)?;
     write_inbetweens(&keys, &a.output)?;
     Ok(())
 }

@@ -59,7 +59,9 @@ fn remap_keys(a: &KeysArgs) -> anyhow::Result<Vec<(u32, mcc::RayFile)>> {
             let out = (a.settings.job(collage.clone(), regions, a.rays.clone(), k.frame))
                 .and_then(|job| remap(&job, a.output.quiet))
                 .with_context(|| format!("key at frame {} ({})", k.frame, collage.display()))?;
-            Ok((k.frame, out.output.rays))
+            let rays = mcc::inbetween::crop_key(out.output.rays, a.output.crop)
+                .map_err(|m| anyhow::anyhow!("key at frame {} ({}): {m}", k.frame, collage.display()))?;
+            Ok((k.frame, rays))
         })
         .collect()
 }

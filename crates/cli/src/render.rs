@@ -11,7 +11,7 @@ use anyhow::bail;
 use clap::Args;
 use mcc::job::ViewRender;
 use std::path::PathBuf;
-use tracer::job::{CameraRender, SceneSetup};
+use tracer::job::{CameraRender, Provenance, SceneSetup};
 
 /// Arguments of `mcctrace render`.
 #[derive(Args, Debug)]
@@ -99,6 +99,11 @@ pub fn run(a: RenderArgs) -> anyhow::Result<()> {
             exr,
             rays: a.lens_writer.then(|| a.ray_format.into()),
             tag: a.tag.then_some(code),
+            provenance: Provenance {
+                projection: Some(view.desc.projection),
+                environment_map: setup.environment_image.as_ref(),
+                rays_from: None,
+            },
         };
         let (rendered, files) = with_threads(q.threads, || job.run(&bars))??;
         warn_nonfinite(&view.desc.name, &rendered);

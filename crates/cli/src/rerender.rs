@@ -85,10 +85,18 @@ pub fn run(a: RerenderArgs) -> anyhow::Result<()> {
         Some(path) => (Rerender::from_lens_file(path, a.frame)?, None),
         None => {
             let remapped = remap(&a.input.job(a.frame)?, q.quiet)?;
-            (Rerender::new(remapped.output.rays.clone(), a.frame), Some(remapped))
+            let job = Rerender::new(remapped.output.rays.clone(), a.frame);
+            let collage = a.input.collage.clone().expect("the remap had a collage");
+            (Rerender { rays_from: Some((mcc::job::COLLAGE_KEY, collage)), ..job }, Some(remapped))
         }
     };
-    let job = Rerender { resolution: q.res.map(|r| r.0), crop: a.crop, quality: q.quality(), ..job };
+    let job = Rerender {
+        resolution: q.res.map(|r| r.0),
+        crop: a.crop,
+        quality: q.quality(),
+        environment_map: q.scene_setup(a.fps)?.environment_image,
+        ..job
+    };
     if let (Some(res), Some(w)) = (q.res, job.stretch_warning()) {
         eprintln!("warning: --res {res}: {w}");
     }

@@ -98,6 +98,7 @@ pub(crate) fn run(s: &DemoSettings, shot: &Shot) -> anyhow::Result<()> {
         mode: ModeArg::Smooth,
         res: Some(shot.frame_res),
         ray_format: RayFormatArg::Binary,
+        crop: 0,
         quiet: s.quiet,
     };
     let written = write_inbetweens(&keys, &output)?;
@@ -112,6 +113,7 @@ pub(crate) fn run(s: &DemoSettings, shot: &Shot) -> anyhow::Result<()> {
         out: frames_dir.clone(),
         fps: SceneSetup::DEFAULT_FPS,
         shutter: None,
+        crop: 0,
         preview: PreviewArg::Gif,
         quality: QualityArgs::with(shot.frame_spp, shot.frame_res, s.threads, true),
     };

@@ -12,7 +12,7 @@ use glam::Vec3;
 use mcc::job::ViewRender;
 use std::path::{Path, PathBuf};
 use tracer::camera::{CameraDesc, Projection};
-use tracer::job::{CameraRender, SceneSetup};
+use tracer::job::{CameraRender, Provenance, SceneSetup};
 use tracer::scene::CameraSelector;
 
 /// What both demos are told: where to write, and how to render the source views.
@@ -107,6 +107,7 @@ pub(crate) fn render_tagged_views(
             exr: &exr,
             rays: Some(mcc::RayFormat::Binary),
             tag: Some(mcc::TagCode::default()),
+            provenance: Provenance { projection: Some(desc.projection), ..Provenance::default() },
         };
         let (rendered, files) = with_threads(q.threads, || job.run(&bars))??;
         warn_nonfinite(&desc.name, &rendered);

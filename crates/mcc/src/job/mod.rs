@@ -17,5 +17,7 @@ mod rerender;
 mod view;
 
 pub use remap::{CollageFiles, RemapJob, Remapped};
-pub use rerender::{Framing, Rerender, carrier_camera, stretch_warning};
+pub use rerender::{
+    COLLAGE_KEY, Framing, LENS_DIR_KEY, LENS_FILE_KEY, Rerender, carrier_camera, stretch_warning,
+};
 pub use view::{ViewFiles, ViewRender};

@@ -10,12 +10,18 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use tracer::camera::{Camera, CameraDesc, Projection};
 use tracer::integrator::PathTracer;
-use tracer::job::{CameraRender, Quality, RenderInfo, write_render};
+use tracer::job::{CameraRender, EnvironmentImage, Provenance, Quality, RenderInfo, write_render};
 use tracer::lens::LensChain;
 use tracer::render::{Progress, Rendered};
 
 /// What the EXR header names as the camera of a rerender.
 const CAMERA: &str = "multicamera collage";
+/// EXR header key of the collage a rerender's rays were remapped from (docs/design.md §3.6).
+pub const COLLAGE_KEY: &str = "mcctrace/collage";
+/// EXR header key of the ray file a rerender read (docs/design.md §3.6).
+pub const LENS_FILE_KEY: &str = "mcctrace/lens_file";
+/// EXR header key of the folder of per-frame ray files an animation read (docs/design.md §3.6).
+pub const LENS_DIR_KEY: &str = "mcctrace/lens_dir";
 
 /// The camera of a render through the lens reader: it only carries the film size, since the
 /// reader replaces every ray.
@@ -94,17 +100,33 @@ pub struct Rerender {
     pub frame: u32,
     /// Samples, seed, depths and film layers.
     pub quality: Quality,
+    /// Where the rays came from, as the EXR header records it: ([`COLLAGE_KEY`] or
+    /// [`LENS_FILE_KEY`], the file); `None` for rays made in memory.
+    pub rays_from: Option<(&'static str, PathBuf)>,
+    /// The environment image lighting the scene, recorded in the EXR header.
+    pub environment_map: Option<EnvironmentImage>,
 }
 
 impl Rerender {
     /// A rerender of frame `frame` through `rays` at their resolution, default quality, no crop.
     pub fn new(rays: impl Into<Arc<RayFile>>, frame: u32) -> Self {
-        Self { rays: rays.into(), resolution: None, crop: 0, frame, quality: Quality::DEFAULT }
+        Self {
+            rays: rays.into(),
+            resolution: None,
+            crop: 0,
+            frame,
+            quality: Quality::DEFAULT,
+            rays_from: None,
+            environment_map: None,
+        }
     }
 
     /// A rerender through the lens file `path` (a remapped or in-betweened ray file).
     pub fn from_lens_file(path: &Path, frame: u32) -> Result<Self> {
-        Ok(Self::new(RayFile::read(path)?, frame))
+        Ok(Self {
+            rays_from: Some((LENS_FILE_KEY, path.to_path_buf())),
+            ..Self::new(RayFile::read(path)?, frame)
+        })
     }
 
     /// The size of the rays (the collage's, overscan border included).
@@ -148,7 +170,12 @@ impl Rerender {
     /// Writes a finished rerender of `scene` to `exr` and its preview PNG beside it; returns
     /// the PNG's path.
     pub fn write(&self, exr: &Path, rendered: &Rendered, scene: &Path) -> Result<PathBuf> {
-        let info = RenderInfo { scene, camera: CAMERA, frame: self.frame, quality: &self.quality };
+        let provenance = Provenance {
+            projection: None,
+            environment_map: self.environment_map.as_ref(),
+            rays_from: self.rays_from.as_ref().map(|(key, path)| (*key, path.as_path())),
+        };
+        let info = RenderInfo { provenance, ..RenderInfo::new(scene, CAMERA, self.frame, &self.quality) };
         Ok(write_render(exr, rendered, &info)?)
     }
 }

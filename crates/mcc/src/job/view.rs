@@ -10,7 +10,7 @@ use crate::tag::TagCode;
 use std::path::{Path, PathBuf};
 use tracer::image::RgbImage;
 use tracer::image_io::{linear_to_srgb8, write_png_rgb8};
-use tracer::job::{CameraRender, RenderInfo, write_exr, write_render};
+use tracer::job::{CameraRender, Provenance, RenderInfo, write_exr, write_render};
 use tracer::lens::LensChain;
 use tracer::render::{Progress, Rendered};
 
@@ -27,6 +27,8 @@ pub struct ViewRender<'a> {
     pub rays: Option<RayFormat>,
     /// Stamp the view's number into the PNG's low bits with this code.
     pub tag: Option<TagCode>,
+    /// The camera model and environment image, for the EXR header.
+    pub provenance: Provenance<'a>,
 }
 
 /// The files a [`ViewRender`] wrote.
@@ -54,10 +56,9 @@ impl ViewRender<'_> {
         }
         let rendered = self.render.run(&mut lenses, progress)?;
         let info = RenderInfo {
-            scene: self.scene,
-            camera: self.render.name,
-            frame: self.render.frame,
-            quality: &self.render.quality,
+            shutter: self.render.shutter,
+            provenance: self.provenance,
+            ..RenderInfo::new(self.scene, self.render.name, self.render.frame, &self.render.quality)
         };
         let png = match self.tag {
             None => write_render(self.exr, &rendered, &info)?,
@@ -120,6 +121,7 @@ mod tests {
             exr: &exr,
             rays: Some(RayFormat::Text),
             tag: Some(code),
+            provenance: Provenance::default(),
         };
         let (rendered, files) = job.run(&NoProgress).unwrap();
         assert!(rendered.images.image.pixels.iter().all(|p| *p == sky));

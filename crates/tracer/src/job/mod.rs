@@ -10,6 +10,6 @@ mod quality;
 mod scene_setup;
 
 pub use camera_render::CameraRender;
-pub use output::{RenderInfo, write_exr, write_render};
+pub use output::{Provenance, RenderInfo, describe_projection, write_exr, write_render};
 pub use quality::Quality;
 pub use scene_setup::{EnvironmentImage, SceneSetup};

@@ -1,11 +1,25 @@
 //! A finished render written out (docs/design.md §3.6): linear EXR with the settings in its header
 //! and optional AOV layers, and an sRGB PNG preview beside it, both atomically.
 
-use super::Quality;
+use super::{EnvironmentImage, Quality};
+use crate::camera::Projection;
 use crate::error::Result;
 use crate::image_io::{Aov, write_exr as write_exr_file, write_png_srgb};
 use crate::render::Rendered;
 use std::path::{Path, PathBuf};
+
+/// How a picture was taken beyond its quality settings, for the EXR header: the camera model,
+/// the environment image, and where a workflow's eye rays came from.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Provenance<'a> {
+    /// The camera model and its lens settings; `None` when no projection made the rays.
+    pub projection: Option<Projection>,
+    /// The environment image lighting the scene, if any.
+    pub environment_map: Option<&'a EnvironmentImage>,
+    /// Where the eye rays came from, as a header key (`mcctrace/…`, named by the workflow: the
+    /// collage or lens file of a rerender) and its file.
+    pub rays_from: Option<(&'a str, &'a Path)>,
+}
 
 /// What the EXR header records besides the pixels.
 #[derive(Clone, Copy, Debug)]
@@ -18,24 +32,76 @@ pub struct RenderInfo<'a> {
     pub frame: u32,
     /// The settings rendered with (with `aovs`, the layers are written too).
     pub quality: &'a Quality,
+    /// Shutter open and close, in frames after the frame's start.
+    pub shutter: (f32, f32),
+    /// Camera model, environment image, ray source.
+    pub provenance: Provenance<'a>,
+}
+
+impl<'a> RenderInfo<'a> {
+    /// The header of frame `frame` of `scene` through `camera` at `quality`: shutter closed,
+    /// nothing more known.
+    pub fn new(scene: &'a Path, camera: &'a str, frame: u32, quality: &'a Quality) -> Self {
+        Self { scene, camera, frame, quality, shutter: (0.0, 0.0), provenance: Provenance::default() }
+    }
+
+    /// The `mcctrace/…` header attributes besides the render's counts (docs/design.md §3.6):
+    /// stable keys; those of the provenance only when known.
+    pub fn settings(&self) -> Vec<(&'a str, String)> {
+        let q = self.quality;
+        let mut out = vec![
+            ("mcctrace/scene", self.scene.display().to_string()),
+            ("mcctrace/camera", self.camera.to_owned()),
+            ("mcctrace/spp", q.spp.to_string()),
+            ("mcctrace/seed", q.seed.to_string()),
+            ("mcctrace/max_depth", q.max_depth.to_string()),
+            ("mcctrace/rr_depth", q.rr_depth.to_string()),
+            ("mcctrace/split", q.split.to_string()),
+            ("mcctrace/adaptive", q.adaptive.to_string()),
+            ("mcctrace/frame", self.frame.to_string()),
+            ("mcctrace/shutter", format!("{}..{}", self.shutter.0, self.shutter.1)),
+        ];
+        let p = &self.provenance;
+        if let Some(projection) = &p.projection {
+            out.push(("mcctrace/projection", describe_projection(projection)));
+        }
+        if let Some(env) = p.environment_map {
+            out.push(("mcctrace/environment_map", env.path.display().to_string()));
+            out.push(("mcctrace/environment_rotation", format!("{}", env.rotation.to_degrees())));
+            out.push(("mcctrace/environment_strength", env.strength.to_string()));
+        }
+        if let Some((key, path)) = p.rays_from {
+            out.push((key, path.display().to_string()));
+        }
+        out
+    }
+}
+
+/// A projection in words with its parameters (angles in degrees, lengths in world units), as the
+/// header's `mcctrace/projection` records it.
+pub fn describe_projection(p: &Projection) -> String {
+    match *p {
+        Projection::Perspective { fov_y } => format!("perspective fov_y={}", fov_y.to_degrees()),
+        Projection::Orthographic { half_height } => format!("orthographic half_height={half_height}"),
+        Projection::ThinLens { fov_y, lens_radius, focus_distance } => format!(
+            "thin_lens fov_y={} lens_radius={lens_radius} focus_distance={focus_distance}",
+            fov_y.to_degrees()
+        ),
+        Projection::Fisheye { fov } => format!("fisheye fov={}", fov.to_degrees()),
+        Projection::Equirectangular => "equirectangular".to_owned(),
+    }
 }
 
 /// Writes `rendered` to the EXR `path`: the beauty image, its AOV layers if the quality asked
 /// for them, and `mcctrace/…` header attributes (settings and counts).
 pub fn write_exr(path: &Path, rendered: &Rendered, info: &RenderInfo<'_>) -> Result<()> {
     let (images, q) = (&rendered.images, info.quality);
-    let metadata = [
-        ("mcctrace/scene", info.scene.display().to_string()),
-        ("mcctrace/camera", info.camera.to_owned()),
-        ("mcctrace/spp", q.spp.to_string()),
-        ("mcctrace/seed", q.seed.to_string()),
-        ("mcctrace/max_depth", q.max_depth.to_string()),
-        ("mcctrace/split", q.split.to_string()),
-        ("mcctrace/frame", info.frame.to_string()),
+    let mut metadata = info.settings();
+    metadata.extend([
         ("mcctrace/seconds", format!("{:.6}", rendered.stats.seconds)),
         ("mcctrace/rays", rendered.stats.rays.to_string()),
         ("mcctrace/samples", rendered.stats.samples.to_string()),
-    ];
+    ]);
     let layers: Vec<Aov<'_>> = if q.aovs {
         vec![
             Aov::Rgb { name: "albedo", image: &images.albedo },
@@ -57,4 +123,47 @@ pub fn write_render(exr: &Path, rendered: &Rendered, info: &RenderInfo<'_>) -> R
     let png = exr.with_extension("png");
     write_png_srgb(&png, &rendered.images.image)?;
     Ok(png)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::PathBuf;
+
+    /// The header keys: the quality's always, the provenance's when known, in a stable order.
+    #[test]
+    fn the_header_records_settings_and_provenance() {
+        let quality = Quality { adaptive: true, rr_depth: 3, ..Quality::DEFAULT };
+        let scene = Path::new("cafe.gltf");
+        let plain = RenderInfo::new(scene, "left", 2, &quality).settings();
+        let get = |s: &[(&str, String)], k: &str| s.iter().find(|(key, _)| *key == k).map(|(_, v)| v.clone());
+        assert_eq!(get(&plain, "mcctrace/adaptive").as_deref(), Some("true"));
+        assert_eq!(get(&plain, "mcctrace/rr_depth").as_deref(), Some("3"));
+        assert_eq!(get(&plain, "mcctrace/shutter").as_deref(), Some("0..0"));
+        assert_eq!(get(&plain, "mcctrace/projection"), None);
+        let env =
+            EnvironmentImage { path: PathBuf::from("sky.exr"), rotation: 90f32.to_radians(), strength: 2.0 };
+        let lens = PathBuf::from("lens/rerender-frame0002.mcr");
+        let info = RenderInfo {
+            shutter: (0.0, 0.5),
+            provenance: Provenance {
+                projection: Some(Projection::ThinLens { fov_y: 0.5, lens_radius: 0.05, focus_distance: 2.5 }),
+                environment_map: Some(&env),
+                rays_from: Some(("mcctrace/lens_file", &lens)),
+            },
+            ..RenderInfo::new(scene, "left", 2, &quality)
+        };
+        let full = info.settings();
+        assert_eq!(get(&full, "mcctrace/shutter").as_deref(), Some("0..0.5"));
+        let projection = get(&full, "mcctrace/projection").unwrap();
+        assert!(
+            projection.starts_with("thin_lens fov_y=28.6")
+                && projection.ends_with("lens_radius=0.05 focus_distance=2.5")
+        );
+        assert_eq!(get(&full, "mcctrace/environment_map").as_deref(), Some("sky.exr"));
+        assert_eq!(get(&full, "mcctrace/environment_strength").as_deref(), Some("2"));
+        assert_eq!(get(&full, "mcctrace/lens_file").as_deref(), Some("lens/rerender-frame0002.mcr"));
+        assert_eq!(&full[..plain.len()], &plain[..]);
+        assert_eq!(describe_projection(&Projection::Equirectangular), "equirectangular");
+    }
 }
