@@ -392,6 +392,44 @@ pub(crate) fn mcc_cases(add: &mut impl FnMut(Case)) {
         .views()
         .args("--ease 1.5")
         .fails(&["ease control 1.5 must be strictly between 0 and 1"]));
+    // Range errors name their flag, as clap's own do (issue 27).
+    add(triangle("cli-spp-0-names-the-flag", "--spp 0").fails(&["'--spp <SPP>'", "0 samples per pixel"]));
+    add(triangle("cli-spp-times-split", "--spp 30000 --split 3")
+        .fails(&["--spp 30000 with --split 3", "must be 1 ..= 21845"]));
+    add(remap(g, "cli-remap-ease-names-the-flag", collage_png(W, H))
+        .views()
+        .args("--ease 1.5")
+        .fails(&["'--ease <EASE>'", "ease control 1.5"]));
+    add(remap(g, "cli-remap-tag-bits-names-the-flag", collage_png(W, H))
+        .views()
+        .args("--tag-bits 0")
+        .fails(&["'--tag-bits <TAG_BITS>'", "0 bits per channel: must be 1 to 8"]));
+    // What is done without a word gets one (issue 27): a ray file named .png, a stretched
+    // rerender, the lens writer's file named by the view rather than by --out.
+    add(Case::new(g, "cli-remap-out-extension")
+        .views()
+        .file("collage.png", collage_png(W, H))
+        .args("remap --collage {dir}/collage.png --rays {dir}/views --out {out}/e.png -q")
+        .warns(&["warning: --out", "e.png", "binary ray file", ".mcr"], &["out/e.png"]));
+    add(Case::new(g, "cli-remap-names-found-regions")
+        .views()
+        .file("collage.png", collage_png(W, H))
+        .file("collage-regions.png", collage_png(W, H))
+        .args("remap --collage {dir}/collage.png --rays {dir}/views --out {out}/rerender-frame0000.mcr")
+        .warns(&["regions: ", "collage-regions.png", "found beside"], &["out/rerender-frame0000.mcr"]));
+    add(rerender_lens(g, "cli-rerender-res-stretches", "lens.txt", corpus_file("rays/ok-camera01.txt"))
+        .args("--res 8x8")
+        .warns(
+            &["warning: --res 8x8", "8x6 collage pixels", "stretched"],
+            &["out/final.exr", "out/final.png"],
+        ));
+    add(Case::new(g, "cli-render-lens-writer-says-where")
+        .corpus("gltf/ok-triangle.gltf")
+        .args(&format!("render {{dir}}/ok-triangle.gltf {QUICK} --lens-writer --out {{out}}/single.exr"))
+        .warns(
+            &["rays -> ", "frame0000camera01.mcr"],
+            &["out/single.exr", "out/single.png", "out/frame0000camera01.mcr"],
+        ));
     add(remap(g, "cli-remap-tag-bits-9", collage_png(W, H))
         .views()
         .args("--tag-bits 9")

@@ -5,8 +5,8 @@
 //! and regions); the last key uses the scene's `wide` camera and an ad-hoc camera by the window,
 //! cut by a mask generated here.
 
-use super::cafe::{DemoCamera, DemoSettings, DemoView, cafe_dir, cafe_scene, render_tagged_views};
-use super::masks::{resize_labels, write_second_mask};
+use super::cafe::{DemoCamera, DemoSettings, DemoView, render_tagged_views};
+use super::masks::{CAFE_MASK, CAFE_REGIONS, resize_labels, write_second_mask};
 use crate::animate::{AnimateArgs, PreviewArg, animate};
 use crate::args::{FrameRange, RayFormatArg, Resolution};
 use crate::collage::default_labels;
@@ -36,7 +36,7 @@ pub(crate) fn run(s: &DemoSettings, shot: &Shot) -> anyhow::Result<()> {
     if shot.frames < 2 {
         bail!("--frames {}: the shot needs at least 2 frames (a key at each end)", shot.frames);
     }
-    let (scene_path, cafe) = (cafe_scene(), cafe_dir());
+    let scene_path = &s.scene;
     let out = &s.out;
     let views_dir = out.join("views");
     std::fs::create_dir_all(&views_dir).with_context(|| format!("creating {}", views_dir.display()))?;
@@ -50,16 +50,16 @@ pub(crate) fn run(s: &DemoSettings, shot: &Shot) -> anyhow::Result<()> {
         DemoView { id: 1, camera: DemoCamera::Scene("left") },
         DemoView { id: 2, camera: DemoCamera::Scene("right") },
     ];
-    pictures.extend(render_tagged_views(&key0_views, first, &views_dir, &q)?);
+    pictures.extend(render_tagged_views(scene_path, &key0_views, first, &views_dir, &q)?);
     let map = mcc::compose::LabelMap::Colours(default_labels());
     let collage0 = out.join(format!("key{first:04}-collage.png"));
     // The bundled label and region images are 480x270: brought to the views' size by nearest
     // neighbour, which keeps every label colour exact.
     let mask0 = out.join(format!("key{first:04}-mask.png"));
-    resize_labels(&cafe.join("collage-mask.png"), res.0, &mask0)?;
+    resize_labels(CAFE_MASK, res.0, &mask0)?;
     mcc::compose::compose_files(&mask0, &map, &views_dir, first, &collage0)?;
     let regions0 = out.join(format!("key{first:04}-collage-regions.png"));
-    resize_labels(&cafe.join("collage-mask-regions.png"), res.0, &regions0)?;
+    resize_labels(CAFE_REGIONS, res.0, &regions0)?;
     pictures.push((format!("key {first} collage"), collage0.clone()));
 
     // 2. The last key: other cameras entirely (the room from its far corner, and the couple
@@ -76,7 +76,7 @@ pub(crate) fn run(s: &DemoSettings, shot: &Shot) -> anyhow::Result<()> {
             },
         },
     ];
-    pictures.extend(render_tagged_views(&key1_views, last, &views_dir, &q)?);
+    pictures.extend(render_tagged_views(scene_path, &key1_views, last, &views_dir, &q)?);
     let mask1 = out.join(format!("key{last:04}-mask.png"));
     write_second_mask(&mask1, res.0)?;
     let collage1 = out.join(format!("key{last:04}-collage.png"));
@@ -107,7 +107,7 @@ pub(crate) fn run(s: &DemoSettings, shot: &Shot) -> anyhow::Result<()> {
     // 4. Render every frame through its rays, then the preview.
     let frames_dir = out.join("frames");
     let animate_args = AnimateArgs {
-        scene: scene_path,
+        scene: scene_path.clone(),
         lens_dir: lens_dir.clone(),
         frames: FrameRange { first, last },
         out: frames_dir.clone(),

@@ -17,6 +17,8 @@ use tracer::scene::CameraSelector;
 
 /// What both demos are told: where to write, and how to render the source views.
 pub(crate) struct DemoSettings {
+    /// The café's scene file.
+    pub scene: PathBuf,
     /// The output folder.
     pub out: PathBuf,
     /// Samples per pixel of the source views (and of the still demo's rerender).
@@ -36,20 +38,39 @@ impl DemoSettings {
     }
 }
 
-/// The café's folder: beside the current directory (a checkout), else beside the sources.
-pub(crate) fn cafe_dir() -> PathBuf {
-    let here = Path::new("scenes");
-    let scenes = if here.is_dir() {
-        here.to_path_buf()
-    } else {
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
-    };
-    scenes.join("cafe")
+/// Where the café lies in a checkout, and under an installation's `share/mcctrace/`.
+const CAFE: &str = "scenes/cafe/cafe.gltf";
+
+/// The café's scene file: `given` (`demo --scene`), else [`CAFE`] under the current directory or
+/// one of its parents (a checkout), else beside the executable or one of its parents (a
+/// checkout's `target/release/`), directly or in `share/mcctrace/` (an installation). Never a
+/// path fixed at build time: an installed binary has no source tree.
+pub(crate) fn find_cafe(given: Option<&Path>) -> anyhow::Result<PathBuf> {
+    if let Some(path) = given {
+        anyhow::ensure!(path.is_file(), "--scene {}: not a file", path.display());
+        return Ok(path.to_path_buf());
+    }
+    let mut roots: Vec<PathBuf> = Vec::new();
+    if let Ok(dir) = std::env::current_dir() {
+        roots.extend(dir.ancestors().map(Path::to_path_buf));
+    }
+    if let Some(dir) = std::env::current_exe().ok().as_deref().and_then(Path::parent) {
+        roots.extend(dir.ancestors().map(Path::to_path_buf));
+    }
+    find_cafe_under(&roots).ok_or_else(|| {
+        anyhow::anyhow!(
+            "the café scene ({CAFE}) is under neither the current directory, the executable's folder, \
+             nor their parents (or their share/mcctrace/): give it with --scene FILE"
+        )
+    })
 }
 
-/// The café's scene file.
-pub(crate) fn cafe_scene() -> PathBuf {
-    cafe_dir().join("cafe.gltf")
+/// The first of `roots` holding [`CAFE`] directly or in `share/mcctrace/`.
+fn find_cafe_under(roots: &[PathBuf]) -> Option<PathBuf> {
+    roots
+        .iter()
+        .flat_map(|root| [root.join(CAFE), root.join("share/mcctrace").join(CAFE)])
+        .find(|p| p.is_file())
 }
 
 /// A camera of a demo view: one of the scene's, or an ad-hoc look-at camera.
@@ -69,13 +90,13 @@ pub(crate) struct DemoView {
 /// Renders `views` of the café at `frame` into `views_dir` with the lens writer and tagger;
 /// returns (caption, tagged PNG) per view.
 pub(crate) fn render_tagged_views(
+    scene_path: &Path,
     views: &[DemoView],
     frame: u32,
     views_dir: &Path,
     q: &QualityArgs,
 ) -> anyhow::Result<Vec<(String, PathBuf)>> {
-    let scene_path = cafe_scene();
-    let scene = load_scene(&scene_path, &SceneSetup::default(), q.quiet)?;
+    let scene = load_scene(scene_path, &SceneSetup::default(), q.quiet)?;
     let quality = q.quality();
     let tracer = quality.tracer(&scene)?;
     let bars = Bars::new(q.quiet);
@@ -103,7 +124,7 @@ pub(crate) fn render_tagged_views(
                 shutter: (0.0, 0.0),
                 quality,
             },
-            scene: &scene_path,
+            scene: scene_path,
             exr: &exr,
             rays: Some(mcc::RayFormat::Binary),
             tag: Some(mcc::TagCode::default()),
@@ -115,4 +136,33 @@ pub(crate) fn render_tagged_views(
         pictures.push((format!("frame {frame} view {} '{}' (tagged)", view.id, desc.name), files.png));
     }
     Ok(pictures)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The café is found under a checkout's root or an installation's share/mcctrace/, from any
+    /// folder below them; nowhere else.
+    #[test]
+    fn finds_the_cafe_relative_to_where_it_is_run() {
+        let base = std::env::temp_dir().join(format!("mcctrace-find-cafe-{}", std::process::id()));
+        let (checkout, install) = (base.join("checkout"), base.join("usr"));
+        for root in [checkout.clone(), install.join("share/mcctrace")] {
+            std::fs::create_dir_all(root.join("scenes/cafe")).unwrap();
+            std::fs::write(root.join(CAFE), "{}").unwrap();
+        }
+        let below = checkout.join("target/release");
+        let ancestors = |d: &Path| d.ancestors().map(Path::to_path_buf).collect::<Vec<_>>();
+        assert_eq!(find_cafe_under(&ancestors(&below)), Some(checkout.join(CAFE)));
+        assert_eq!(
+            find_cafe_under(&ancestors(&install.join("bin"))),
+            Some(install.join("share/mcctrace").join(CAFE))
+        );
+        assert_eq!(find_cafe_under(&[base.join("elsewhere")]), None);
+        let given = checkout.join(CAFE);
+        assert_eq!(find_cafe(Some(&given)).unwrap(), given);
+        assert!(find_cafe(Some(&base.join("none.gltf"))).unwrap_err().to_string().contains("--scene"));
+        std::fs::remove_dir_all(&base).unwrap();
+    }
 }

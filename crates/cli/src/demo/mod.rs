@@ -16,6 +16,10 @@ use std::path::PathBuf;
 /// Arguments of `mcctrace demo`.
 #[derive(Args, Debug)]
 pub struct DemoArgs {
+    /// The café scene (default: scenes/cafe/cafe.gltf under the current directory or the
+    /// executable's folder, or one of their parents, or their share/mcctrace/).
+    #[arg(long, value_name = "FILE")]
+    pub(crate) scene: Option<PathBuf>,
     /// Output folder (default out/demo, or out/demo-animation with --animation).
     #[arg(long)]
     pub(crate) out: Option<PathBuf>,
@@ -23,7 +27,8 @@ pub struct DemoArgs {
     /// source views, default 8).
     #[arg(long, value_parser = crate::args::spp)]
     pub(crate) spp: Option<u32>,
-    /// Resolution of the views and of the final picture (default 480x270, the bundled mask's;
+    /// Resolution of the views and of the final picture, any size (default 480x270, the bundled
+    /// mask's, which is scaled to it;
     /// with --animation: of the key frames' source views, default 240x135).
     #[arg(long, value_name = "WxH")]
     pub(crate) res: Option<Resolution>,
@@ -52,6 +57,7 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
     let (out, spp, res) =
         if a.animation { ("out/demo-animation", 8, (240, 135)) } else { ("out/demo", 32, (480, 270)) };
     let settings = DemoSettings {
+        scene: cafe::find_cafe(a.scene.as_deref())?,
         out: a.out.unwrap_or_else(|| PathBuf::from(out)),
         spp: a.spp.unwrap_or(spp),
         res: a.res.unwrap_or(Resolution(glam::UVec2::new(res.0, res.1))),

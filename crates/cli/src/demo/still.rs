@@ -2,7 +2,8 @@
 //! the two facing views with the lens writer and tagger, compose the bundled collage mask, remap
 //! it (with its region image), rerender, and write every picture to one folder.
 
-use super::cafe::{DemoCamera, DemoSettings, DemoView, cafe_dir, cafe_scene, render_tagged_views};
+use super::cafe::{DemoCamera, DemoSettings, DemoView, render_tagged_views};
+use super::masks::{CAFE_MASK, CAFE_REGIONS, resize_labels};
 use crate::collage::default_labels;
 use crate::rerender::render_through;
 use crate::setup::collage::remap;
@@ -14,7 +15,7 @@ use tracer::job::SceneSetup;
 
 pub(crate) fn run(s: &DemoSettings) -> anyhow::Result<()> {
     let start = Instant::now();
-    let (scene_path, cafe) = (cafe_scene(), cafe_dir());
+    let scene_path = &s.scene;
     let out = &s.out;
     let views_dir = out.join("views");
     std::fs::create_dir_all(&views_dir).with_context(|| format!("creating {}", views_dir.display()))?;
@@ -26,17 +27,19 @@ pub(crate) fn run(s: &DemoSettings) -> anyhow::Result<()> {
         DemoView { id: 1, camera: DemoCamera::Scene("left") },
         DemoView { id: 2, camera: DemoCamera::Scene("right") },
     ];
-    pictures.extend(render_tagged_views(&views, 0, &views_dir, &q)?);
+    pictures.extend(render_tagged_views(scene_path, &views, 0, &views_dir, &q)?);
 
     // 2. The collage, cut from the tagged views by the bundled label mask (red = camera 1,
-    //    green = camera 2, black = the background the remapper blends).
+    //    green = camera 2, black = the background the remapper blends), brought to the views'
+    //    size by nearest neighbour (no new colours), as is its region image.
     let collage = out.join("collage.png");
     let map = mcc::compose::LabelMap::Colours(default_labels());
-    mcc::compose::compose_files(&cafe.join("collage-mask.png"), &map, &views_dir, 0, &collage)?;
+    let mask = out.join("collage-mask.png");
+    resize_labels(CAFE_MASK, s.res.0, &mask)?;
+    mcc::compose::compose_files(&mask, &map, &views_dir, 0, &collage)?;
     pictures.push(("collage".into(), collage.clone()));
-    let region_image = cafe.join("collage-mask-regions.png");
     let regions = out.join("collage-regions.png");
-    std::fs::copy(&region_image, &regions).with_context(|| format!("copying {}", region_image.display()))?;
+    resize_labels(CAFE_REGIONS, s.res.0, &regions)?;
     pictures.push(("regions".into(), regions.clone()));
 
     // 3. Remap (with debug pictures) and save the rays.
@@ -54,7 +57,7 @@ pub(crate) fn run(s: &DemoSettings) -> anyhow::Result<()> {
         quality: q.quality(),
         ..Rerender::new(remapped.output.rays, 0)
     };
-    let final_png = render_through(&scene_path, SceneSetup::DEFAULT_FPS, &job, &q, &final_exr)?;
+    let final_png = render_through(scene_path, SceneSetup::DEFAULT_FPS, &job, &q, &final_exr)?;
     pictures.push(("final rerender".into(), final_png));
 
     println!(
