@@ -3,7 +3,7 @@
 //! the tool by `rerender`, `keys`, `inbetween` and `animate` with `--crop`, where `--res` is the
 //! size after the crop; the EXR headers say how each picture was made (docs/design.md §3.6).
 
-use crate::common::{Scratch, mcctrace};
+use crate::common::{CORNELL_SECOND_VIEW, Scratch, mcctrace};
 use std::path::Path;
 use tracer::image_io::read_exr;
 
@@ -54,16 +54,9 @@ fn overscanned_views(dir: &Scratch) -> String {
     let mut one = vec!["render", CORNELL];
     one.extend(quick);
     mcctrace(&[&one[..], &["--out", &views]].concat()).unwrap();
-    let mut two = vec![
-        "render",
-        CORNELL,
-        "--look-from",
-        "0.8,2.9,-7.2",
-        "--look-at",
-        "2.78,2.6,2.8",
-        "--first-id",
-        "2",
-    ];
+    let mut two = vec!["render", CORNELL];
+    two.extend(CORNELL_SECOND_VIEW);
+    two.extend(["--first-id", "2"]);
     two.extend(quick);
     mcctrace(&[&two[..], &["--out", &views]].concat()).unwrap();
     let (fw, fh) = (W + 2 * BORDER, H + 2 * BORDER);

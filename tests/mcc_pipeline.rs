@@ -12,7 +12,7 @@
 //! - Malformed inputs give errors naming the file, and leave no output behind.
 
 use crate::common::golden::{Sampled, assert_darker_fails, check_golden};
-use crate::common::{Scratch, mcctrace};
+use crate::common::{CORNELL_SECOND_VIEW, Scratch, mcctrace};
 use std::path::Path;
 use tracer::compare::{Estimate, StatTest};
 use tracer::image::RgbImage;
@@ -33,18 +33,9 @@ fn render_views(dir: &Scratch) {
     one.extend(common);
     one.push(&views);
     mcctrace(&one).unwrap();
-    let mut two = vec![
-        "render",
-        CORNELL,
-        "--look-from",
-        "0.8,2.9,-7.2",
-        "--look-at",
-        "2.78,2.6,2.8",
-        "--fov",
-        "39.3",
-        "--first-id",
-        "2",
-    ];
+    let mut two = vec!["render", CORNELL];
+    two.extend(CORNELL_SECOND_VIEW);
+    two.extend(["--first-id", "2"]);
     two.extend(common);
     two.push(&views);
     mcctrace(&two).unwrap();

@@ -17,6 +17,11 @@ use tracer::material::Material;
 use tracer::render::{NoProgress, RenderSettings, Rendered, render};
 use tracer::scene::{CameraSelector, Mesh, MeshPart, Scene};
 
+/// `render` flags of the Cornell box's second view for collages: to the right of the scene's
+/// camera, turned towards the box.
+pub const CORNELL_SECOND_VIEW: [&str; 6] =
+    ["--look-from", "0.8,2.9,-7.2", "--look-at", "2.78,2.6,2.8", "--fov", "39.3"];
+
 /// The repository root (the suite's manifest directory).
 pub fn repo_root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))

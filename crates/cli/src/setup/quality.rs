@@ -132,10 +132,12 @@ impl QualityArgs {
         let most = tracer::sampler::MAX_SAMPLES_PER_PIXEL / self.split;
         if self.spp > most {
             bail!(
-                "--spp {} with --split {}: {} samples per pixel: must be 1 ..= {most}",
+                "--spp {} with --split {}: {} samples per pixel: must be 1 ..= {most} with {} paths split from \
+                 each first hit",
                 self.spp,
                 self.split,
-                self.spp
+                self.spp,
+                self.split
             );
         }
         Ok(SceneSetup {
