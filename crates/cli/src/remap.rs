@@ -89,6 +89,7 @@ pub fn remap_collage(input: &CollageInputArgs, frame: u32, quiet: bool) -> anyho
         second_blur_radius: settings.blur2,
         ease_control: settings.ease,
         debug: input.debug_dir.is_some(),
+        ..mcc::RemapConfig::GLASSNER
     };
     let options = mcc::CollageOptions {
         tag: mcc::TagCode::new(settings.tag_bits)?,

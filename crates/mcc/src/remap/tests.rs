@@ -247,7 +247,8 @@ fn remaps_from_files_and_writes_debug_pictures() {
     assert!(matches!(&out.warnings[..], [RemapWarning::StraysIgnored(r)] if r.count == 1));
     assert_eq!(bits(out.rays.get(0, 0)), bits(view(1, w, h).get(0, 0)));
     let written = out.debug.unwrap().write_pngs(&dir, 7).unwrap();
-    assert_eq!(written.len(), 5);
+    assert_eq!(written.len(), 6);
+    assert!(dir.join("debug-frame0007-seams.png").is_file());
     assert!(written.iter().all(|p| p.is_file()));
     assert!(dir.join("debug-frame0007-camera02-weights.png").is_file());
     let err = remap_files(&RemapInputs { frame: 8, ..inputs }, &config).unwrap_err().to_string();
