@@ -1,5 +1,5 @@
 //! Error against time on the Cornell box, compared with the peers measured on this kind of
-//! machine (NOTES.md, "Peers measured here"; `tests/data/cornell/README.md`).
+//! machine (`docs/performance.md`, "Peers"; `tests/data/cornell/README.md`).
 //!
 //! `cargo bench -p mcctrace-suite --bench convergence` renders `scenes/cornell/cornell.gltf`
 //! (camera `cornell`, 256², at most 4 scattering vertices, default roulette depth) at 1, 2, 4,
@@ -36,10 +36,10 @@ const TARGET: f64 = 1e-3;
 /// The first-vertex split of the third and fourth series.
 const SPLIT: u32 = 2;
 
-/// Peers (NOTES.md / the reference README): (label, [(seconds, relMSE)]).
+/// Peers (`docs/performance.md`, "Peers"): (label, [(seconds, relMSE)]).
 const MITSUBA_LLVM: [(f64, f64); 3] = [(0.231, 0.00919), (0.906, 0.00234), (3.60, 0.000584)];
 const MITSUBA_SCALAR: [(f64, f64); 1] = [(2.84, 0.00229)];
-/// Cycles reaches relMSE 1e-3 after ≈ 3.8 s (NOTES.md).
+/// Cycles reaches relMSE 1e-3 after ≈ 3.8 s (`docs/performance.md`, "Peers").
 const CYCLES_AT_TARGET: (f64, f64) = (3.8, 1e-3);
 
 struct Row {

@@ -1,4 +1,5 @@
-//! Remapper, ray-file and lens-reader speed, and the remapper's peak memory (SPEC §5, §4, §6).
+//! Remapper, ray-file and lens-reader speed, and the remapper's peak memory (docs/design.md §5,
+//! §4.2, §6).
 //!
 //! `cargo bench --bench remap` prints one table. Everything is synthetic and deterministic:
 //! cameras on a circle around the origin (some facing each other), elliptical blobs of each
@@ -10,14 +11,15 @@
 //! peak for a 4K collage with 16 cameras; a 1080p binary ray file loads in ≤ 30 ms. The seamless
 //! blend (issue 28): ≤ 2× the column's remap time at 1080p with 8 cameras and regions (rounds of
 //! both, interleaved), and seam ratio p99 ≤ 3, max ≤ 20 on the café's demo collage, a ring and two
-//! blobs of one view (section `seams`; docs/seamless-blend.md).
+//! blobs of one view (section `seams`; docs/design.md §5.8).
 
 use glam::{UVec2, Vec2, Vec3};
 use mcc::collage::Collage;
 use mcc::image;
+use mcc::job::CollageFiles;
 use mcc::ray_file::{RayFile, RayFormat, StoredRay};
 use mcc::regions::Regions;
-use mcc::remap::{RemapConfig, RemapInputs, SourceRays, remap, remap_files, remap_sources};
+use mcc::remap::{RemapConfig, SourceRays, remap, remap_sources};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -173,15 +175,9 @@ fn write_inputs(dir: &Path, w: u32, h: u32, cameras: u32, frame: u32) -> PathBuf
 /// The child: the whole remap stage from files in `dir`; prints "ms kib".
 fn child(dir: &Path) {
     let collage = dir.join("collage.png");
-    let inputs = RemapInputs {
-        collage: &collage,
-        regions: None,
-        rays_dir: dir,
-        frame: 1,
-        collage_options: Default::default(),
-    };
+    let inputs = CollageFiles::new(collage, dir, 1);
     let (start, cpu0) = (Instant::now(), cpu_ms());
-    let out = remap_files(&inputs, &RemapConfig::GLASSNER).expect("remap");
+    let out = inputs.remap(&RemapConfig::GLASSNER).expect("remap");
     let (elapsed, cpu) = (ms(start.elapsed()), cpu_ms() - cpu0);
     out.rays.write(&dir.join("rerender-frame0001.mcr"), RayFormat::Binary).expect("write");
     drop(out);
@@ -284,7 +280,9 @@ fn remap_scaling() {
         let bg = collage.ids.iter().filter(|&&id| id == 0).count() as f64 / collage.ids.len() as f64;
         let mut rounds: Vec<[Timing; 2]> = Vec::new();
         for _ in 0..runs {
-            let run = |config: &RemapConfig| time(1, || remap_sources(&collage, &regions, &src, 0, config).expect("remap"));
+            let run = |config: &RemapConfig| {
+                time(1, || remap_sources(&collage, &regions, &src, 0, config).expect("remap"))
+            };
             rounds.push([run(&RemapConfig::GLASSNER), run(&RemapConfig::SEAMLESS)]);
         }
         for (k, name) in ["remap", "remap seamless"].iter().enumerate() {
@@ -292,7 +290,12 @@ fn remap_scaling() {
             wall.sort_by(f64::total_cmp);
             let cpu = rounds.iter().map(|r| r[k].cpu).sum::<f64>() / runs as f64;
             let t = Timing { best: wall[0], median: wall[runs / 2], cpu };
-            row(&format!("{name} {label} {w}x{h}, 8 cams, 3 regions, {:.0}% bg", bg * 100.0), &t, 1e6, (w * h) as f64);
+            row(
+                &format!("{name} {label} {w}x{h}, 8 cams, 3 regions, {:.0}% bg", bg * 100.0),
+                &t,
+                1e6,
+                (w * h) as f64,
+            );
         }
         let median_ratio = |f: fn(&Timing) -> f64| {
             let mut r: Vec<f64> = rounds.iter().map(|r| f(&r[1]) / f(&r[0])).collect();
@@ -322,7 +325,8 @@ fn cafe_views(dir: &Path, w: u32, h: u32) -> Option<BTreeMap<u32, RayFile>> {
         let info = FrameInfo { frame: 0, camera_id: id, shutter: (0.0, 0.0) };
         writer.begin_frame(camera.as_ref(), info).ok()?;
         writer.end_frame(camera.as_ref(), info).ok()?;
-        files.insert(id, RayFile::read(&dir.join(mcc::names::view_rays_name(0, id, RayFormat::Binary))).ok()?);
+        files
+            .insert(id, RayFile::read(&dir.join(mcc::names::view_rays_name(0, id, RayFormat::Binary))).ok()?);
     }
     Some(files)
 }
@@ -338,8 +342,20 @@ fn seam_collages(w: u32, h: u32) -> Vec<(&'static str, Collage, Regions)> {
         mcc::png::read_image(&cafe.join("collage-mask-regions.png")),
     ) && (mask.width(), mask.height()) == (w, h)
     {
-        let ids = mask.to_rgb8().pixels().map(|p| match p.0 { [255, 0, 0] => 1, [0, 255, 0] => 2, _ => 0 }).collect();
-        out.push(("demo (mask + regions)", Collage::new(w, h, ids).expect("collage"), Regions::from_image(&regions)));
+        let ids = mask
+            .to_rgb8()
+            .pixels()
+            .map(|p| match p.0 {
+                [255, 0, 0] => 1,
+                [0, 255, 0] => 2,
+                _ => 0,
+            })
+            .collect();
+        out.push((
+            "demo (mask + regions)",
+            Collage::new(w, h, ids).expect("collage"),
+            Regions::from_image(&regions),
+        ));
     }
     let (fw, fh) = (w as f32, h as f32);
     let ring = (0..w * h)
@@ -347,7 +363,13 @@ fn seam_collages(w: u32, h: u32) -> Vec<(&'static str, Collage, Regions)> {
             let (x, y) = ((p % w) as f32 + 0.5 - fw / 2.0, (p / w) as f32 + 0.5 - fh / 2.0);
             let r = (x * x + y * y).sqrt() / fh;
             let frame = (x / (0.47 * fw)).powi(2) + (y / (0.47 * fh)).powi(2) > 1.0;
-            if (0.17..0.37).contains(&r) { 1 } else if frame { 2 } else { 0 }
+            if (0.17..0.37).contains(&r) {
+                1
+            } else if frame {
+                2
+            } else {
+                0
+            }
         })
         .collect();
     out.push(("ring of camera 1", Collage::new(w, h, ring).expect("collage"), Regions::single(w, h)));
@@ -356,7 +378,13 @@ fn seam_collages(w: u32, h: u32) -> Vec<(&'static str, Collage, Regions)> {
             let (x, y) = (((p % w) as f32 + 0.5) / fw, ((p / w) as f32 + 0.5) / fh);
             let d1 = ((x - 0.25) * fw).hypot((y - 0.42) * fh) / fh;
             let d2 = ((x - 0.72) * fw).hypot((y - 0.45) * fh) / fh;
-            if d1 < 0.26 || d2 < 0.2 { 1 } else if y > 0.9 { 2 } else { 0 }
+            if d1 < 0.26 || d2 < 0.2 {
+                1
+            } else if y > 0.9 {
+                2
+            } else {
+                0
+            }
         })
         .collect();
     out.push(("two blobs of camera 1", Collage::new(w, h, blobs).expect("collage"), Regions::single(w, h)));
@@ -372,12 +400,16 @@ fn seam_figures(dir: &Path) {
         println!("{:<46} (skipped: cannot load the café scene)", "seams");
         return;
     };
-    println!("\n{:<24} {:<9} {:>7} {:>7} {:>7} {:>9}", "café collage 480x270", "blend", "p99", "p99.9", "max", "best ms");
+    println!(
+        "\n{:<24} {:<9} {:>7} {:>7} {:>7} {:>9}",
+        "café collage 480x270", "blend", "p99", "p99.9", "max", "best ms"
+    );
     for (name, collage, regions) in seam_collages(w, h) {
         for (blend, preset) in [("glassner", RemapConfig::GLASSNER), ("seamless", RemapConfig::SEAMLESS)] {
             let t = time(3, || remap(&collage, &regions, &files, 0, &preset).expect("remap"));
             let config = RemapConfig { report: true, ..preset };
-            let s = remap(&collage, &regions, &files, 0, &config).expect("remap").seams.expect("seam figures");
+            let s =
+                remap(&collage, &regions, &files, 0, &config).expect("remap").seams.expect("seam figures");
             println!("{name:<24} {blend:<9} {:>7.2} {:>7.2} {:>7.1} {:>9.1}", s.p99, s.p999, s.max, t.best);
         }
     }

@@ -1,6 +1,7 @@
-//! Render throughput on the Cornell box (the scene of the Mitsuba and Cycles figures in NOTES.md):
-//! `scenes/cornell/cornell.gltf`, camera `cornell`, 256², at most 4 scattering vertices, 16 spp
-//! (about a million camera samples per measurement), on the default rayon pool (all cores).
+//! Render throughput on the Cornell box (the scene of the Mitsuba and Cycles figures in
+//! `docs/performance.md`): `scenes/cornell/cornell.gltf`, camera `cornell`, 256², at most 4
+//! scattering vertices, 16 spp (about a million camera samples per measurement), on the default
+//! rayon pool (all cores).
 //!
 //! `cargo bench -p mcctrace-suite --bench render` reports time per frame and throughput in camera
 //! samples per second (criterion `Throughput::Elements`), then prints rays per second from the

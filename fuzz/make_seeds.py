@@ -34,7 +34,7 @@ def put(target, name, data):
 
 
 # ------------------------------------------------------------------------------------------------
-# Ray files (crates/mcc/src/ray_file.rs)
+# Ray files (crates/mcc/src/ray_file/mod.rs)
 
 MAGIC = b"\x89MCR\r\n\x1a\n"
 

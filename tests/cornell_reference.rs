@@ -2,8 +2,8 @@
 //! (`scenes/cornell/cornell.gltf`, camera `cornell`) and as the directory of OBJ parts (with the
 //! README's look-at camera), rendered at 256², 4 scattering vertices, and compared with Mitsuba
 //! 3's converged 16384-spp reference (`tests/data/cornell/`) by `tracer::compare`'s statistical
-//! test (NOTES.md: per-pixel Šidák-corrected z-test on the render's own per-sample variance, plus
-//! an image-level bias check).
+//! test (docs/testing.md §2: per-pixel Šidák-corrected z-test on the render's own per-sample
+//! variance, plus an image-level bias check).
 //!
 //! What would fail: any bias in light transport (BSDF, light sampling, MIS weights, emission
 //! sidedness, camera mapping, pixel filter …) large enough to show at 128 spp per pixel or as a
@@ -12,9 +12,7 @@
 //! materials, so with the same seed (the same random numbers) they must agree far more closely
 //! than two independent renders do.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use tracer::compare::{Estimate, rel_mse, statistical_test};
 use tracer::image::RgbImage;
 use tracer::render::Rendered;

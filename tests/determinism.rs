@@ -1,4 +1,4 @@
-//! Determinism (SPEC §3, "Sampling and determinism"): every random number is a function of
+//! Determinism (docs/design.md §3.5): every random number is a function of
 //! (pixel, sample, dimension, seed) and every pixel is computed by one task, so a render is the
 //! same bit for bit whatever the thread count. Reference: the same render itself, on 1 thread.
 //!
@@ -15,9 +15,7 @@
 //! same reason it could not matter either. A test forces two opposite schedules (one worker or
 //! the other slowed down) and checks the bits, and that the schedules really differed.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use glam::UVec2;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use tracer::compare::StatTest;

@@ -1,6 +1,5 @@
-//! Furnace tests: scenes whose every pixel has a closed-form radiance (NOTES.md, "Testing a Monte
-//! Carlo renderer without flaky tests"; pbrt-v4's analytic-scene tests), so the reference is
-//! mathematics, not another renderer.
+//! Furnace tests: scenes whose every pixel has a closed-form radiance (docs/testing.md §1;
+//! pbrt-v4's analytic-scene tests), so the reference is mathematics, not another renderer.
 //!
 //! (a) A camera inside a closed diffuse sphere of albedo ρ whose wall emits radiance Le towards
 //!     the inside. Every wall point sees only wall, so with unlimited depth the radiance L is the
@@ -18,9 +17,7 @@
 //! with near certainty. Cameras: perspective and equirectangular, both at the sphere's centre;
 //! with and without Russian roulette.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use glam::{UVec2, Vec3};
 use tracer::camera::{CameraDesc, Projection};
 use tracer::compare::{StatTest, statistical_test};

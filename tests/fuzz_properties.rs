@@ -1,8 +1,8 @@
 //! Fuzzing-style property tests on stable Rust (issue "Trust", item 4): the same readers and the
-//! same checks as the cargo-fuzz targets in `fuzz/` (the harness `fuzz/src/harness.rs` is compiled
-//! in here by path), fed with proptest's random bytes and with random mutations of the committed
-//! seed corpus `fuzz/corpus/<target>/`. The property: no panic, no failed consistency check; every
-//! bad input is an `Err`.
+//! same checks as the cargo-fuzz targets in `fuzz/` (both call the harness crate `fuzz/harness/`),
+//! fed with proptest's random bytes and with random mutations of the committed seed corpus
+//! `fuzz/corpus/<target>/`. The property: no panic, no failed consistency check; every bad input
+//! is an `Err`.
 //!
 //! Bounded: a fixed number of cases per reader (`CASES`, a few seconds each in release) from a
 //! fixed RNG seed, so the suite is deterministic. `MCCTRACE_FUZZ_CASES=n` runs n cases per reader
@@ -10,9 +10,7 @@
 //! a longer local hunt without cargo-fuzz. A failure prints the shrunk input; reproduce it with
 //! the matching cargo-fuzz target (fuzz/README.md) or by calling the harness function on it.
 
-#[path = "../fuzz/src/harness.rs"]
-#[allow(dead_code)]
-mod harness;
+use fuzz_harness as harness;
 
 use proptest::prelude::*;
 use proptest::sample::Index;

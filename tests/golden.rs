@@ -1,14 +1,14 @@
-//! The golden-image regression suite (issue 6 item 1; shared NOTES.md, "Statistical golden
-//! tests"): every bundled scene and camera, each camera model, and an in-between MCC frame rendered
-//! through the lens reader, at small size and modest spp, each compared with its golden EXR in
-//! `tests/data/golden/` (converged mean + per-sample variance + spp, ZIP-compressed) by the
-//! per-pixel Šidák z-test and the image-level bias check (`common/golden.rs`). The MCC collage
-//! rerender's golden is checked by `tests/mcc_pipeline.rs` with the same machinery.
+//! The golden-image regression suite (issue 6 item 1; docs/testing.md §2): every bundled scene and
+//! camera, each camera model, and an in-between MCC frame rendered through the lens reader, at
+//! small size and modest spp, each compared with its golden EXR in `tests/data/golden/` (converged
+//! mean + per-sample variance + spp, ZIP-compressed) by the per-pixel Šidák z-test and the
+//! image-level bias check (`common/golden.rs`). The MCC collage rerender's golden is checked by
+//! `tests/mcc_pipeline.rs` with the same machinery.
 //!
 //! Re-bless (prints how each golden changed; a name filter narrows it to some goldens):
 //!
 //! ```sh
-//! UPDATE_GOLDEN=1 cargo test --release -p mcctrace-suite --test golden -- --nocapture
+//! UPDATE_GOLDEN=1 cargo test --release -p mcctrace-suite --test suite -- golden:: --nocapture
 //! ```
 //!
 //! What would fail: any change of the expected image beyond noise — light transport, materials,
@@ -19,10 +19,10 @@
 //! and wide, and the collage in `mcc_pipeline.rs`) the test also proves it: the same render made
 //! 2 % darker must fail against the same golden.
 
-mod common;
-
-use common::golden::{Sampled, assert_darker_fails, check_golden, golden_path, read_golden, write_golden};
-use common::*;
+use crate::common::golden::{
+    Sampled, assert_darker_fails, check_golden, golden_path, read_golden, write_golden,
+};
+use crate::common::*;
 use glam::{UVec2, Vec3};
 use std::f32::consts::PI;
 use std::sync::{Arc, OnceLock};
@@ -228,9 +228,9 @@ fn key_rays(camera: &CameraDesc, size: UVec2, frame: u32, id: u32) -> mcc::RayFi
 
 #[test]
 fn inbetween_frame_through_the_lens_reader() {
-    // SPEC §7 and §6: keys at frames 0 (the 'cornell' camera) and 8 (the 'corner' camera of the
-    // camera list); frame 3 of the smooth in-between is rendered through the lens reader — the
-    // MCC rerender path, fed rays that no camera model produces.
+    // docs/design.md §7 and §6: keys at frames 0 (the 'cornell' camera) and 8 (the 'corner' camera
+    // of the camera list); frame 3 of the smooth in-between is rendered through the lens reader —
+    // the MCC rerender path, fed rays that no camera model produces.
     let (scene, tracer) = cornell();
     let size = CORNELL_SIZE;
     let front = scene.camera(&CameraSelector::Name("cornell".into())).expect("camera 'cornell'");

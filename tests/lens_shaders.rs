@@ -1,4 +1,4 @@
-//! Lens shaders end to end (SPEC §3, "Camera and lens shaders"): shaders written here against
+//! Lens shaders end to end (docs/design.md §3.8): shaders written here against
 //! the public `LensShader` trait rewrite or drop the Cornell camera's eye rays, and the rendered
 //! images are checked against the plain render of the same scene (itself proven against Mitsuba
 //! in `cornell_reference.rs`).
@@ -18,9 +18,7 @@
 //!   and "flip, then drop rays pointing left" give two different images, each black on a
 //!   different half and the mirrored scene on the other.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use glam::Vec3;
 use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
 use std::sync::{Arc, OnceLock};

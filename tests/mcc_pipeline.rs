@@ -1,20 +1,18 @@
-//! The multicamera collage end to end (SPEC §4–6, §8), through the real `mcctrace` command line
-//! run in-process: render two Cornell views with the lens writer and tagger, compose a collage
-//! from a label mask, remap, rerender.
+//! The multicamera collage end to end (docs/design.md §4–6, §8), through the real `mcctrace`
+//! command line run in-process: render two Cornell views with the lens writer and tagger, compose a
+//! collage from a label mask, remap, rerender.
 //!
 //! - A collage that is entirely camera 1 gives back exactly camera 1's rays at every pixel
 //!   centre, and its rerender equals a plain render of camera 1 statistically (an independent
 //!   path: no MCC at all).
 //! - A mixed collage rerenders like its golden EXR (`tests/data/golden/`), checked by the golden
-//!   suite's machinery (`common/golden.rs`: NOTES.md's statistical test on both images'
+//!   suite's machinery (`common/golden.rs`: docs/testing.md §2's statistical test on both images'
 //!   per-sample variances). `UPDATE_GOLDEN=1 cargo test --release -p mcctrace-suite --test
-//!   mcc_pipeline mixed` re-renders the golden and prints how it changed.
+//!   suite -- mcc_pipeline::mixed` re-renders the golden and prints how it changed.
 //! - Malformed inputs give errors naming the file, and leave no output behind.
 
-mod common;
-
-use common::golden::{Sampled, assert_darker_fails, check_golden};
-use common::{Scratch, mcctrace};
+use crate::common::golden::{Sampled, assert_darker_fails, check_golden};
+use crate::common::{Scratch, mcctrace};
 use std::path::Path;
 use tracer::compare::{Estimate, StatTest};
 use tracer::image::RgbImage;

@@ -1,5 +1,5 @@
-//! Numerical robustness of the tracer core (NOTES.md, "Numerical robustness"; SPEC §3, "Ray
-//! epsilon"): the ray–surface arithmetic must not depend on where the scene is or how big it is.
+//! Numerical robustness of the tracer core (docs/design.md §3.4; docs/testing.md §4): the ray–surface arithmetic
+//! must not depend on where the scene is or how big it is.
 //!
 //! (a) Scale and offset: the Cornell box with every vertex and the camera scaled by 10^k,
 //!     k ∈ {−4, −2, 0, 2, 4}, or translated by 10^4 along every axis, is the same scene (radiance
@@ -18,9 +18,7 @@
 //!     Degenerate (point, repeated-vertex, collinear, denormal-sliver) triangles added to the
 //!     Cornell box must change nothing (statistically) and produce no non-finite sample.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use glam::{Affine3A, UVec2, Vec3};
 use std::sync::OnceLock;
 use tracer::camera::{CameraDesc, Projection};

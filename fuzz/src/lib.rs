@@ -1,6 +1,6 @@
-//! Shared harness of the fuzz targets; see `harness.rs` (also compiled into the root package's
-//! `tests/fuzz_properties.rs`).
-pub mod harness;
+//! The fuzz targets' library: the checks of the harness crate (`harness/`, also the root package's
+//! `tests/fuzz_properties.rs` uses it) and the cargo-fuzz build's allocation ceiling.
+pub use fuzz_harness as harness;
 
 /// The allocation ceiling of the cargo-fuzz build (`alloc_limit.rs` says why).
 #[cfg(fuzzing)]

@@ -1,4 +1,4 @@
-//! Scene time (part of tests/animation.rs): a glTF whose square or camera moves LINEARly along
+//! Scene time (part of tests/animation/): a glTF whose square or camera moves LINEARly along
 //! x renders where the hand-computed pose at frame / fps puts it.
 
 use super::{Scratch, mcctrace};

@@ -1,4 +1,4 @@
-//! The malformed-input corpus (`tests/bad_inputs.rs`): what a case is, and the builders the
+//! The malformed-input corpus (`tests/bad_inputs/`): what a case is, and the builders the
 //! case lists (`scene_cases.rs`, `mcc_cases.rs`) use.
 
 use super::encoders::collage_png;

@@ -1,4 +1,4 @@
-//! The malformed-input corpus (`tests/bad_inputs.rs`): generators of the binary inputs.
+//! The malformed-input corpus (`tests/bad_inputs/`): generators of the binary inputs.
 //! Generators of the binary inputs: tiny hand-written encoders, so every byte is deliberate and
 //! the output never changes with a dependency's version.
 
@@ -90,7 +90,7 @@ pub(crate) fn parse_text_rays(text: &[u8]) -> Vec<[f32; 6]> {
     rays
 }
 
-/// `rgb` with camera `id` in its 2 low bits per channel (SPEC §4, b = 2).
+/// `rgb` with camera `id` in its 2 low bits per channel (docs/design.md §4.4, b = 2).
 pub(crate) fn tag(rgb: [u8; 3], id: u32) -> [u8; 3] {
     let part = |k: u32| ((id >> (2 * k)) & 3) as u8;
     [(rgb[0] & !3) | part(0), (rgb[1] & !3) | part(1), (rgb[2] & !3) | part(2)]

@@ -1,4 +1,4 @@
-//! The malformed-input corpus (`tests/bad_inputs.rs`): ray-file, collage, absurd-size and command-line cases.
+//! The malformed-input corpus (`tests/bad_inputs/`): ray-file, collage, absurd-size and command-line cases.
 
 use super::case::*;
 use super::encoders::*;

@@ -1,4 +1,4 @@
-//! The malformed-input corpus (`tests/bad_inputs.rs`): scene, environment-map, camera-list and empty-file cases.
+//! The malformed-input corpus (`tests/bad_inputs/`): scene, environment-map, camera-list and empty-file cases.
 
 use super::case::*;
 use super::encoders::*;

@@ -1,10 +1,9 @@
-//! The statistical golden-image machinery (issue 6 item 1; shared NOTES.md, "Statistical golden
-//! tests"): a golden is a converged render stored as a ZIP-compressed EXR with its per-sample
-//! variance as a second layer and its samples per pixel in the metadata; a test renders the same
-//! view at modest spp with another seed (independent samples) and compares with
-//! `StatTest::between`: per pixel-channel z = |x − g| / sqrt(var_x/N_x + var_g/N_g), Šidák
-//! threshold for a 1 % family-wise false-failure rate, ≥ 99.75 % passing, plus the image-level
-//! bias check on each channel's mean difference.
+//! The statistical golden-image machinery (issue 6 item 1; docs/testing.md §2): a golden is a
+//! converged render stored as a ZIP-compressed EXR with its per-sample variance as a second layer
+//! and its samples per pixel in the metadata; a test renders the same view at modest spp with
+//! another seed (independent samples) and compares with `StatTest::between`: per pixel-channel z =
+//! |x − g| / sqrt(var_x/N_x + var_g/N_g), Šidák threshold for a 1 % family-wise false-failure rate,
+//! ≥ 99.75 % passing, plus the image-level bias check on each channel's mean difference.
 //!
 //! `UPDATE_GOLDEN=1` re-renders every golden the run reaches (narrow it with cargo's test-name
 //! filter) and prints how it changed against the old file; without it a missing golden fails the
@@ -124,7 +123,7 @@ pub fn check_golden(
     let golden = read_golden(&path).unwrap_or_else(|e| {
         panic!(
             "golden '{name}' unreadable ({e}); bless it with \
-             UPDATE_GOLDEN=1 cargo test --release -p mcctrace-suite --test <this test> {name}"
+             UPDATE_GOLDEN=1 cargo test --release -p mcctrace-suite --test suite {name}"
         )
     });
     let test = super::timed(&format!("{name}: test render, {test_spp} spp"), || render(test_spp, TEST_SEED));

@@ -5,8 +5,8 @@ use super::harness::*;
 use glam::{UVec2, Vec3};
 use std::f32::consts::PI;
 
-/// Blender Cycles' spot falloff (NOTES.md): smoothstep((cos θ − cos θo) / ((1 − cos θo)·b)),
-/// b = 1 − inner/outer.
+/// Blender Cycles' spot falloff (docs/design.md §3.10): smoothstep((cos θ − cos θo) / ((1 − cos
+/// θo)·b)), b = 1 − inner/outer.
 pub(crate) fn blender_falloff(cos: f32, inner: f32, outer: f32) -> f32 {
     if cos <= outer.cos() {
         return 0.0;

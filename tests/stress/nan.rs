@@ -1,14 +1,14 @@
-//! No NaN or infinite sample anywhere (NOTES.md, "Numerical robustness": grazing directions
+//! No NaN or infinite sample anywhere (docs/testing.md §4: grazing directions
 //! (cos ≈ 1e-7) and degenerate triangles give no NaN; the film's NaN/Inf count is asserted zero):
 //! grazing views of every material under every light type through every camera model,
 //! degenerate and zero-area triangles of every material (which must also change nothing),
 //! degenerate tangent frames and lying shading normals, denormal and huge coordinates.
 
-use crate::common::*;
-use crate::scale::{SIZE, SPP, base_all, config, render_job};
-use crate::scene::{
+use super::scale::{SIZE, SPP, base_all, config, render_job};
+use super::scene::{
     Lighting, Model, camera, mat, materials, push_quad, showcase, sky_map, textures, transformed,
 };
+use crate::common::*;
 use glam::{UVec2, Vec2, Vec3, Vec4};
 use tracer::camera::{CameraDesc, Projection};
 use tracer::compare::StatTest;

@@ -1,13 +1,14 @@
-//! Scale and offset invariance for every light type and camera model (NOTES.md, "Numerical
-//! robustness": "a scene scaled by 10^−4 … 10^4 (lights scaled to match) renders the same image
-//! statistically"), and exact invisibility of index-matched glass and cut-out surfaces at every
-//! scale (a refracted ray re-hitting its own surface would show).
+//! Scale and offset invariance for every light type and camera model (docs/testing.md §4: "a scene
+//! scaled by 10^−4 … 10^4 (lights scaled to match) renders the same image statistically"), and
+//! exact invisibility of index-matched glass and cut-out surfaces at every scale (a refracted ray
+//! re-hitting its own surface would show).
 //!
 //! Reference: the same scene at unit scale, rendered with another seed; the comparison is
-//! `StatTest::between` (per-pixel Šidák z-test plus the image-level bias check, NOTES.md).
+//! `StatTest::between` (per-pixel Šidák z-test plus the image-level bias check, docs/testing.md
+//! §2).
 
+use super::scene::{Lighting, Model, camera, showcase, transformed};
 use crate::common::*;
-use crate::scene::{Lighting, Model, camera, showcase, transformed};
 use glam::{UVec2, Vec3};
 use std::sync::OnceLock;
 use tracer::camera::CameraDesc;
@@ -18,7 +19,8 @@ use tracer::render::Rendered;
 use tracer::scene::{Environment, Mesh, MeshPart, Scene};
 use tracer::texture::{Texture, TextureRef};
 
-/// Film size and samples of the comparisons: 32² at 64 spp (NOTES: N ≥ 64 for the z-test).
+/// Film size and samples of the comparisons: 32² at 64 spp (docs/testing.md §2: N ≥ 64 for the
+/// z-test).
 pub const SIZE: u32 = 32;
 pub const SPP: u32 = 64;
 

@@ -1,8 +1,8 @@
-//! `mcctrace animate`: render a shot through per-frame ray files (SPEC §6 lens reader, §8
-//! workflow). Every frame is an independent unit of work: `--frames` takes any sub-range, and a
-//! frame whose EXR and PNG are both in the output folder is skipped (both are written atomically,
-//! so an existing file is complete), so a crashed run resumes and a render farm's job array can
-//! split a shot by frame ranges over a shared folder.
+//! `mcctrace animate`: render a shot through per-frame ray files (docs/design.md §6 lens
+//! reader, §8 workflow). Every frame is an independent unit of work: `--frames` takes any
+//! sub-range, and a frame whose EXR and PNG are both in the output folder is skipped (both are
+//! written atomically, so an existing file is complete), so a crashed run resumes and a render
+//! farm's job array can split a shot by frame ranges over a shared folder.
 //!
 //! Motion blur (`--shutter OPEN..CLOSE`) is camera-ray blur: each eye ray gets a time in the
 //! shutter interval and the lens reader interpolates the ray files of frames f and f+1 by it.
@@ -10,19 +10,18 @@
 //! blur (the BVH holds one pose per frame).
 
 use crate::args::{FrameRange, Shutter};
-use crate::output::{Png, RenderInfo, write_render};
 use crate::preview::{GIF_NAME, finished_frames, write_gif};
-use crate::render::{
-    QualityArgs, apply_environment, apply_light_overrides, integrator_config, load_scene,
-    render_camera_with_shutter, summary,
-};
-use crate::scene_time::{DEFAULT_FPS, check_fps, frame_seconds, is_animated};
+use crate::progress::Bars;
+use crate::setup::output::{summary, warn_nonfinite};
+use crate::setup::quality::QualityArgs;
+use crate::setup::scene::load_scene;
+use crate::with_threads;
 use anyhow::{Context, bail};
 use clap::{Args, ValueEnum};
-use glam::{UVec2, Vec3};
+use glam::UVec2;
+use mcc::job::carrier_camera;
 use std::path::{Path, PathBuf};
-use tracer::camera::{Camera, CameraDesc, Projection};
-use tracer::integrator::PathTracer;
+use tracer::job::{CameraRender, RenderInfo, SceneSetup, write_render};
 use tracer::lens::LensChain;
 
 /// Preview kinds.
@@ -51,7 +50,7 @@ pub struct AnimateArgs {
     pub out: PathBuf,
     /// Frames per second: an animated scene is posed at frame / FPS seconds (geometry is not
     /// blurred: it holds that pose for the whole shutter interval). Also the preview's rate.
-    #[arg(long, default_value_t = DEFAULT_FPS)]
+    #[arg(long, default_value_t = SceneSetup::DEFAULT_FPS)]
     pub fps: f32,
     /// Camera motion blur: the shutter is open from OPEN to CLOSE frames after each frame's
     /// start (0 ≤ OPEN ≤ CLOSE ≤ 1); each eye ray's time blends the ray files of frames f and
@@ -64,6 +63,9 @@ pub struct AnimateArgs {
     #[command(flatten)]
     pub quality: QualityArgs,
 }
+
+/// What the EXR header names as the camera of an animated frame.
+const ANIMATED: &str = "multicamera collage (animated)";
 
 /// The EXR of `frame` in `out` (its PNG preview is beside it).
 pub fn frame_exr(out: &Path, frame: u32) -> PathBuf {
@@ -98,22 +100,10 @@ fn film_size(a: &AnimateArgs, first: u32) -> anyhow::Result<UVec2> {
     Ok(UVec2::new(rays.width, rays.height))
 }
 
-/// The camera that only carries the film size: the lens reader replaces every ray.
-fn carrier(res: UVec2) -> anyhow::Result<Box<dyn Camera>> {
-    let desc = CameraDesc::look_at(
-        "lens reader",
-        Vec3::ZERO,
-        -Vec3::Z,
-        Vec3::Y,
-        Projection::Perspective { fov_y: 1.0 },
-    )?;
-    Ok(desc.build(res)?)
-}
-
 /// Renders the frames `a` asks for that are not finished, then the preview.
 pub fn animate(a: &AnimateArgs) -> anyhow::Result<AnimateReport> {
     let q = &a.quality;
-    check_fps(a.fps)?;
+    let setup = q.scene_setup(a.fps)?;
     if !a.lens_dir.is_dir() {
         bail!("--lens-dir {}: not a directory", a.lens_dir.display());
     }
@@ -131,52 +121,46 @@ pub fn animate(a: &AnimateArgs) -> anyhow::Result<AnimateReport> {
     }
     if let Some(&first) = todo.first() {
         let shutter = a.shutter.map_or((0.0, 0.0), |s| (s.open, s.close));
-        let mut base = load_scene(&a.scene, q.quiet)?;
-        apply_environment(&mut base, q)?;
-        let animated = is_animated(&base);
-        // A static scene gets one BVH for the whole run; an animated one is rebuilt per frame.
-        let still = if animated {
-            None
-        } else {
-            apply_light_overrides(&mut base, q);
-            Some(PathTracer::new(&base, integrator_config(q))?)
-        };
-        let camera = carrier(film_size(a, first)?)?;
+        let quality = q.quality();
+        let base = load_scene(&a.scene, &setup, q.quiet)?;
+        // A static scene gets one BVH for the whole run; an animated one is posed per frame.
+        let still = if base.animation.is_none() { Some(quality.tracer(&base)?) } else { None };
+        let camera = carrier_camera(film_size(a, first)?)?;
         let reader = mcc::LensReader::new(mcc::lens_reader::RaySource::Directory(a.lens_dir.clone()))
             .with_motion_blur(shutter.1 > shutter.0);
         let mut lenses = LensChain::new();
         lenses.push(Box::new(reader));
+        let bars = Bars::new(q.quiet);
         for &frame in &todo {
             let posed;
             let tracer = match &still {
                 Some(t) => t,
                 None => {
-                    let seconds = frame_seconds(frame, a.fps);
-                    let mut scene = base
-                        .at_time(seconds)
-                        .with_context(|| format!("posing the scene at frame {frame} ({seconds} s)"))?;
-                    apply_light_overrides(&mut scene, q);
-                    posed = PathTracer::new(&scene, integrator_config(q))?;
+                    let scene = setup.pose(&base, frame).with_context(|| {
+                        format!("posing the scene at frame {frame} ({} s)", setup.frame_seconds(frame))
+                    })?;
+                    posed = quality.tracer(&scene)?;
                     &posed
                 }
             };
             let name = format!("frame {frame}");
-            let rendered =
-                render_camera_with_shutter(tracer, camera.as_ref(), &name, 0, &mut lenses, q, frame, shutter)
-                    .with_context(|| format!("frame {frame} (rays from {})", a.lens_dir.display()))?;
-            let exr = frame_exr(&a.out, frame);
-            let info = RenderInfo {
-                scene: &a.scene,
-                camera: "multicamera collage (animated)",
-                spp: q.spp,
-                seed: q.seed,
-                max_depth: q.max_depth,
-                split: q.split,
+            let job = CameraRender {
+                tracer,
+                camera: camera.as_ref(),
+                name: &name,
+                camera_id: 0,
                 frame,
+                shutter,
+                quality,
             };
-            write_render(&exr, &rendered, &info, q.aovs, Png::Preview)?;
+            let rendered = with_threads(q.threads, || job.run(&mut lenses, &bars))?
+                .with_context(|| format!("frame {frame} (rays from {})", a.lens_dir.display()))?;
+            warn_nonfinite(&name, &rendered);
+            let exr = frame_exr(&a.out, frame);
+            let info = RenderInfo { scene: &a.scene, camera: ANIMATED, frame, quality: &quality };
+            write_render(&exr, &rendered, &info)?;
             if !q.quiet {
-                eprintln!("{}", summary(&name, q, &rendered, &exr));
+                eprintln!("{}", summary(&name, q.spp, &rendered, &exr));
             }
             report.rendered.push(frame);
         }

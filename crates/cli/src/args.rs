@@ -1,5 +1,5 @@
-//! Value parsers for command-line arguments: vectors, colours, resolutions, frame ranges,
-//! shutter intervals and keys.
+//! Value parsers for command-line arguments: vectors, resolutions, frame ranges, shutter
+//! intervals, keys and ray-file encodings.
 
 use glam::{UVec2, Vec3};
 use std::ops::RangeInclusive;
@@ -158,6 +158,24 @@ impl KeyArg {
     /// The value as a path.
     pub fn path(&self) -> PathBuf {
         PathBuf::from(&self.value)
+    }
+}
+
+/// Ray-file encodings, for every command that writes ray files.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum RayFormatArg {
+    /// Binary .mcr (smaller and faster; the default).
+    Binary,
+    /// The column's text format, .txt.
+    Text,
+}
+
+impl From<RayFormatArg> for mcc::RayFormat {
+    fn from(f: RayFormatArg) -> Self {
+        match f {
+            RayFormatArg::Binary => mcc::RayFormat::Binary,
+            RayFormatArg::Text => mcc::RayFormat::Text,
+        }
     }
 }
 

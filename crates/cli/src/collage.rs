@@ -1,6 +1,6 @@
-//! `mcctrace collage`: compose a collage from a label image (SPEC §8's image-editor step done from
-//! a file, for scripts and tests): each labelled pixel copies the tagged view of its camera;
-//! black stays background.
+//! `mcctrace collage`: compose a collage from a label image (docs/design.md §8's image-editor step
+//! done from a file, for scripts and tests): each labelled pixel copies the tagged view of its
+//! camera; black stays background.
 
 use anyhow::bail;
 use clap::Args;

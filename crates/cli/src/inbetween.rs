@@ -1,9 +1,8 @@
-//! `mcctrace inbetween`: the in-betweener (SPEC §7, §8): key ray files in, one
+//! `mcctrace inbetween`: the in-betweener (docs/design.md §7, §8): key ray files in, one
 //! `rerender-frameFFFF` ray file per frame out, each written atomically.
 
-use crate::args::{FrameRange, KeyArg, Resolution};
-use crate::progress::Bar;
-use crate::render::RayFormatArg;
+use crate::args::{FrameRange, KeyArg, RayFormatArg, Resolution};
+use crate::progress::Bars;
 use anyhow::Context;
 use clap::{Args, ValueEnum};
 use mcc::inbetween::{InbetweenMode, Keys, write_frames};
@@ -65,15 +64,6 @@ pub struct InbetweenArgs {
     pub output: InbetweenOutputArgs,
 }
 
-/// Counts written frames on a progress bar.
-struct FrameBar(Bar);
-
-impl FrameBar {
-    fn tick(&self) {
-        self.0.advance(1);
-    }
-}
-
 /// Writes the frames `o` asks for from `keys`; returns the paths written, in frame order.
 pub fn write_inbetweens(keys: &Keys, o: &InbetweenOutputArgs) -> anyhow::Result<Vec<PathBuf>> {
     let frames = o.frames.unwrap_or_else(|| {
@@ -81,11 +71,12 @@ pub fn write_inbetweens(keys: &Keys, o: &InbetweenOutputArgs) -> anyhow::Result<
         FrameRange { first: f[0], last: f[f.len() - 1] }
     });
     let start = std::time::Instant::now();
-    let bar = FrameBar(Bar::new(frames.len(), "in-between", o.quiet));
+    let bars = Bars::new(o.quiet);
+    bars.begin("in-between", frames.len());
     let written =
-        write_frames(keys, frames.range(), o.mode.into(), &o.out, o.ray_format.into(), &|_| bar.tick())
+        write_frames(keys, frames.range(), o.mode.into(), &o.out, o.ray_format.into(), &|_| bars.advance(1))
             .with_context(|| format!("in-betweening frames {frames} into {}", o.out.display()))?;
-    bar.0.finish();
+    bars.finish();
     if !o.quiet {
         let res = keys.resolution();
         eprintln!(

@@ -1,10 +1,11 @@
-//! `mcctrace keys`: the column's keyframe workflow in one go (SPEC §5, §7, §8): one collage per
-//! key frame, each remapped against that frame's source views (`frameFFFFcameraCC.mcr`, SPEC
-//! §4) by the remap command's own code path, then in-betweened into one ray file per frame.
+//! `mcctrace keys`: the column's keyframe workflow in one go (docs/design.md §5, §7, §8): one
+//! collage per key frame, each remapped against that frame's source views
+//! (`frameFFFFcameraCC.mcr`, docs/design.md §4.3) by the remap command's own job, then
+//! in-betweened into one ray file per frame.
 
 use crate::args::KeyArg;
 use crate::inbetween::{InbetweenOutputArgs, write_inbetweens};
-use crate::remap::{CollageInputArgs, RemapSettingsArgs, remap_collage};
+use crate::setup::collage::{RemapSettingsArgs, remap};
 use anyhow::{Context, bail};
 use clap::Args;
 use mcc::inbetween::Keys;
@@ -43,7 +44,7 @@ fn split_key(key: &KeyArg) -> anyhow::Result<(PathBuf, Option<PathBuf>)> {
 }
 
 /// Remaps every key's collage against its frame's views; returns (frame, rays) per key.
-pub fn remap_keys(a: &KeysArgs) -> anyhow::Result<Vec<(u32, mcc::RayFile)>> {
+fn remap_keys(a: &KeysArgs) -> anyhow::Result<Vec<(u32, mcc::RayFile)>> {
     let mut seen = std::collections::BTreeSet::new();
     for k in &a.keys {
         if !seen.insert(k.frame) {
@@ -54,16 +55,10 @@ pub fn remap_keys(a: &KeysArgs) -> anyhow::Result<Vec<(u32, mcc::RayFile)>> {
         .iter()
         .map(|k| {
             let (collage, regions) = split_key(k)?;
-            let input = CollageInputArgs {
-                collage: Some(collage.clone()),
-                rays: Some(a.rays.clone()),
-                regions,
-                settings: a.settings.clone(),
-                debug_dir: None,
-            };
-            let out = remap_collage(&input, k.frame, a.output.quiet)
+            let out = (a.settings.job(collage.clone(), regions, a.rays.clone(), k.frame))
+                .and_then(|job| remap(&job, a.output.quiet))
                 .with_context(|| format!("key at frame {} ({})", k.frame, collage.display()))?;
-            Ok((k.frame, out.rays))
+            Ok((k.frame, out.output.rays))
         })
         .collect()
 }

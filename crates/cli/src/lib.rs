@@ -1,21 +1,20 @@
-//! The `mcctrace` command line (SPEC §8): parses arguments, reports progress and errors, and
-//! calls the `tracer` and `mcc` libraries. Nothing here renders or remaps by itself.
+//! The `mcctrace` command line (docs/design.md §8): parses arguments, builds the libraries' jobs
+//! (`tracer::job`, `mcc::job`), runs them and reports progress, results and errors. Nothing here
+//! renders or remaps by itself.
 
 mod animate;
 mod args;
 mod collage;
 mod demo;
-mod demo_animation;
 mod inbetween;
 mod info;
 mod keys;
-mod output;
 mod preview;
 mod progress;
 mod remap;
 mod render;
 mod rerender;
-mod scene_time;
+mod setup;
 mod tag;
 
 use clap::{Parser, Subcommand};

@@ -1,19 +1,19 @@
-//! `mcctrace rerender`: the lens reader (SPEC §6, §8): remap a collage (or take a ready ray
-//! file) and render the scene with one ray per pixel from it, at any output resolution.
+//! `mcctrace rerender`: the lens reader (docs/design.md §6, §8): remap a collage (or take a
+//! ready ray file) and render the scene with one ray per pixel from it, at any output
+//! resolution.
 
-use crate::args::Resolution;
-use crate::output::{Png, RenderInfo, write_render};
-use crate::remap::{CollageInputArgs, create_parent, remap_collage};
-use crate::render::{QualityArgs, RayFormatArg, load_scene, prepare, render_camera, summary};
+use crate::args::RayFormatArg;
+use crate::progress::Bars;
+use crate::setup::collage::{CollageInputArgs, remap};
+use crate::setup::output::{create_parent, summary, warn_nonfinite};
+use crate::setup::quality::QualityArgs;
+use crate::setup::scene::{at_frame, load_scene};
+use crate::with_threads;
 use anyhow::{Context, bail};
 use clap::Args;
-use glam::{UVec2, Vec3};
+use mcc::job::Rerender;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
-use tracer::camera::{CameraDesc, Projection};
-use tracer::film::FilmImages;
-use tracer::lens::LensChain;
-use tracer::render::Rendered;
+use tracer::job::SceneSetup;
 
 /// Arguments of `mcctrace rerender`.
 #[derive(Args, Debug)]
@@ -30,7 +30,7 @@ pub struct RerenderArgs {
     #[arg(long, default_value_t = 0)]
     pub frame: u32,
     /// Frames per second: the scene time of frame F is F / FPS seconds.
-    #[arg(long, default_value_t = crate::scene_time::DEFAULT_FPS)]
+    #[arg(long, default_value_t = SceneSetup::DEFAULT_FPS)]
     pub fps: f32,
     /// Drop an N-pixel border (in collage pixels) rendered with `render --overscan N`.
     #[arg(long, default_value_t = 0, value_name = "N")]
@@ -46,77 +46,30 @@ pub struct RerenderArgs {
     pub quality: QualityArgs,
 }
 
-/// Crops `n` pixels from every side of the render's images.
-fn crop(r: &mut Rendered, n: u32) -> anyhow::Result<()> {
-    let img = &r.images.image;
-    if 2 * n >= img.width || 2 * n >= img.height {
-        bail!("--crop {n} leaves nothing of a {}x{} image", img.width, img.height);
-    }
-    let (w, h) = (img.width - 2 * n, img.height - 2 * n);
-    let i = &r.images;
-    let cut = |x: &tracer::image::RgbImage| x.crop(n, n, w, h).expect("checked above");
-    r.images = FilmImages {
-        image: cut(&i.image),
-        variance: cut(&i.variance),
-        samples: i.samples.crop(n, n, w, h).expect("checked above"),
-        albedo: cut(&i.albedo),
-        normal: cut(&i.normal),
-        depth: i.depth.crop(n, n, w, h).expect("checked above"),
-    };
-    Ok(())
-}
-
-/// Renders `scene_path` (posed at `frame` / `fps` seconds if animated) through the rays of
-/// `rays` into `out` (shared with the demo).
-#[allow(clippy::too_many_arguments)]
-pub fn render_with_rays(
-    scene_path: &Path,
-    rays: mcc::RayFile,
-    res: Option<Resolution>,
-    crop_border: u32,
-    out: &Path,
-    q: &QualityArgs,
-    frame: u32,
+/// Renders `scene` (posed at the job's frame at `fps` frames per second) through the job's
+/// rays into `out` and its PNG beside it, which it returns (shared with the demo).
+pub fn render_through(
+    scene: &Path,
     fps: f32,
+    job: &Rerender,
+    q: &QualityArgs,
+    out: &Path,
 ) -> anyhow::Result<PathBuf> {
-    let (w, h) = (rays.width, rays.height);
-    let res = res.map_or(UVec2::new(w, h), |r| r.0);
-    // The crop is given in collage pixels; scale it to the output. Checked before the scene is
-    // loaded and rendered: a bad value fails at once and leaves nothing behind.
-    let crop_out = (crop_border as f64 * res.x as f64 / w as f64).round() as u32;
-    if crop_out > 0 && (2 * crop_out as u64 >= res.x as u64 || 2 * crop_out as u64 >= res.y as u64) {
-        bail!("--crop {crop_border} leaves nothing of a {}x{} image", res.x, res.y);
+    // Checked before the scene is loaded and rendered: a bad value fails at once and leaves
+    // nothing behind.
+    if job.output_crop().is_none() {
+        let film = job.film_size();
+        bail!("--crop {} leaves nothing of a {}x{} image", job.crop, film.x, film.y);
     }
-    let scene = load_scene(scene_path, q.quiet)?;
-    let mut scene = crate::scene_time::at_frame(scene, frame, fps)?;
-    let tracer = prepare(&mut scene, q)?;
-    // The lens reader replaces every ray; the camera only carries the film size.
-    let carrier = CameraDesc::look_at(
-        "lens reader",
-        Vec3::ZERO,
-        -Vec3::Z,
-        Vec3::Y,
-        Projection::Perspective { fov_y: 1.0 },
-    )?
-    .build(res)?;
-    let mut lenses = LensChain::new();
-    lenses.push(Box::new(mcc::LensReader::new(mcc::lens_reader::RaySource::Rays(Arc::new(rays)))));
-    let mut rendered = render_camera(&tracer, carrier.as_ref(), "rerender", 0, &mut lenses, q, frame)?;
-    if crop_out > 0 {
-        crop(&mut rendered, crop_out)?;
-    }
-    let info = RenderInfo {
-        scene: scene_path,
-        camera: "multicamera collage",
-        spp: q.spp,
-        seed: q.seed,
-        max_depth: q.max_depth,
-        split: q.split,
-        frame,
-    };
-    let png = write_render(out, &rendered, &info, q.aovs, Png::Preview)?;
+    let setup = q.scene_setup(fps)?;
+    let loaded = load_scene(scene, &setup, q.quiet)?;
+    let posed = at_frame(&setup, loaded, job.frame)?;
+    let tracer = job.quality.tracer(&posed)?;
+    let rendered = with_threads(q.threads, || job.run(&tracer, &Bars::new(q.quiet)))??;
+    warn_nonfinite("rerender", &rendered);
+    let png = job.write(out, &rendered, scene)?;
     if !q.quiet {
-        eprintln!("{}", summary("rerender", q, &rendered, out));
+        eprintln!("{}", summary("rerender", job.quality.spp, &rendered, out));
     }
     Ok(png)
 }
@@ -127,20 +80,24 @@ pub fn run(a: RerenderArgs) -> anyhow::Result<()> {
         bail!("--out {}: give an .exr file", a.out.display());
     }
     create_parent(&a.out)?;
-    let Some(path) = &a.lens else {
-        let output = remap_collage(&a.input, a.frame, q.quiet)?;
-        // The remapped rays are saved only once the render has succeeded: a run that fails
-        // (a bad --crop, --spp, scene …) leaves no output behind (SPEC §8).
-        render_with_rays(&a.scene, output.rays.clone(), q.res, a.crop, &a.out, q, a.frame, a.fps)?;
+    let (job, remapped) = match &a.lens {
+        Some(path) => (Rerender::from_lens_file(path, a.frame)?, None),
+        None => {
+            let remapped = remap(&a.input.job(a.frame)?, q.quiet)?;
+            (Rerender::new(remapped.output.rays.clone(), a.frame), Some(remapped))
+        }
+    };
+    let job = Rerender { resolution: q.res.map(|r| r.0), crop: a.crop, quality: q.quality(), ..job };
+    render_through(&a.scene, a.fps, &job, q, &a.out)?;
+    // The remapped rays are saved only once the render has succeeded: a run that fails (a bad
+    // --crop, --spp, scene …) leaves no output behind (docs/design.md §8).
+    if let Some(remapped) = remapped {
         let dir = a.out.parent().map(Path::to_path_buf).unwrap_or_default();
         let saved = dir.join(mcc::names::rerender_name(a.frame, a.ray_format.into()));
-        output.rays.write(&saved, a.ray_format.into()).with_context(|| "saving the remapped rays")?;
+        remapped.write_rays(&saved, a.ray_format.into()).with_context(|| "saving the remapped rays")?;
         if !q.quiet {
             eprintln!("rays -> {}", saved.display());
         }
-        return Ok(());
-    };
-    let rays = mcc::RayFile::read(path)?;
-    render_with_rays(&a.scene, rays, q.res, a.crop, &a.out, q, a.frame, a.fps)?;
+    }
     Ok(())
 }

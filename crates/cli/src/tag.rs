@@ -1,5 +1,5 @@
-//! `mcctrace tag`: the standalone camera tagger (SPEC §4): stamp a camera number into the low
-//! bits of an 8-bit image's pixels.
+//! `mcctrace tag`: the standalone camera tagger (docs/design.md §4.4): stamp a camera number into
+//! the low bits of an 8-bit image's pixels.
 
 use clap::Args;
 use std::path::PathBuf;

@@ -1,8 +1,8 @@
-//! The collage composer: what a user does by hand in an image editor (SPEC §1, §8), scripted for
-//! tests, demos and batch work. A *label image* says which camera each pixel shows: black (0, 0, 0)
-//! or alpha 0 is background, and every other exact colour picks a camera, either through an
-//! explicit colour → camera map or by the colour's own tag bits. Each labelled pixel then copies
-//! that camera's tagged view pixel, so the result is exactly the collage an editor with
+//! The collage composer: what a user does by hand in an image editor (docs/design.md §1, §8),
+//! scripted for tests, demos and batch work. A *label image* says which camera each pixel shows:
+//! black (0, 0, 0) or alpha 0 is background, and every other exact colour picks a camera, either
+//! through an explicit colour → camera map or by the colour's own tag bits. Each labelled pixel
+//! then copies that camera's tagged view pixel, so the result is exactly the collage an editor with
 //! hard-edged selections would save.
 //!
 //! ```no_run

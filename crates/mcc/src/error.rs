@@ -1,6 +1,6 @@
-//! The MCC error type (SPEC §8: "every error names the file and what is wrong with it"). Each
-//! variant carries the file (or, for data handed over in memory, what the data is) and a message
-//! a user can act on; nothing in this crate prints or panics on bad input.
+//! The MCC error type (docs/design.md §8: "every error names the file and what is wrong with it").
+//! Each variant carries the file (or, for data handed over in memory, what the data is) and a
+//! message a user can act on; nothing in this crate prints or panics on bad input.
 
 use crate::collage::StrayReport;
 use std::path::PathBuf;
@@ -51,6 +51,24 @@ pub enum MccError {
         path: PathBuf,
         /// How many, which ids, and where the first few are.
         report: StrayReport,
+    },
+    /// A layered collage (OpenRaster, PSD) is malformed or uses what this reader does not
+    /// support; `entry` says where: an archive entry (`stack.xml`, `data/layer1.png`), a layer
+    /// (`layer "left (camera 1)"`) or a part of the file (`layer records`).
+    #[error("{}: {entry}: {message}", path.display())]
+    Layered {
+        /// The layered file.
+        path: PathBuf,
+        /// The entry, layer or part at fault.
+        entry: String,
+        /// What is wrong with it.
+        message: String,
+    },
+    /// A collage file holds no camera pixels: there is nothing to remap from.
+    #[error("{}: has no camera pixels: there is nothing to remap from", path.display())]
+    EmptyCollage {
+        /// The collage file.
+        path: PathBuf,
     },
     /// Two inputs that must have the same resolution do not.
     #[error("{}: {what} is {}x{}, but {expected_from} is {}x{}", path.display(), found.0, found.1, expected.0, expected.1)]
@@ -118,9 +136,10 @@ pub enum MccError {
         /// What is wrong with the ray.
         message: String,
     },
-    /// Writing an output failed (the tracer's atomic writer names the file).
+    /// The tracer failed: writing an output (its atomic writer names the file) or rendering
+    /// (the error names the camera), or the caller cancelled a render.
     #[error(transparent)]
-    Write(#[from] TracerError),
+    Tracer(#[from] TracerError),
 }
 
 impl MccError {
@@ -132,6 +151,11 @@ impl MccError {
     /// Shorthand for an image error about `path`.
     pub fn image(path: impl Into<PathBuf>, message: impl Into<String>) -> Self {
         Self::Image { path: path.into(), message: message.into() }
+    }
+
+    /// Shorthand for an error about `entry` of the layered file at `path`.
+    pub fn layered(path: impl Into<PathBuf>, entry: impl Into<String>, message: impl Into<String>) -> Self {
+        Self::Layered { path: path.into(), entry: entry.into(), message: message.into() }
     }
 
     /// Shorthand for a whole-file ray-file error about `path`.

@@ -1,4 +1,4 @@
-//! The lens reader (SPEC §6, normative): a lens shader that replaces every eye ray by the ray a
+//! The lens reader (docs/design.md §6): a lens shader that replaces every eye ray by the ray a
 //! ray file gives for the sample's film position, interpolated at any output resolution.
 //!
 //! For an output of W × H and a file of w × h, film position (x, y) maps to u = x·w/W − ½,
@@ -29,8 +29,8 @@ use tracer::ray::Ray;
 /// Squared chord below which the four directions of a cell are blended with one normalisation.
 /// All pairwise angles are then under 0.01 rad, where a normalised lerp is within 0.016·θ³
 /// ≤ 1.6e-8 rad of a slerp, and the row results' lengths differ by under θ²/8, which moves the
-/// vertical blend by under 3e-8 rad: the fused result matches SPEC §6's nested form to below f32
-/// resolution (6e-8).
+/// vertical blend by under 3e-8 rad: the fused result matches docs/design.md §6's nested form to
+/// below f32 resolution (6e-8).
 const FUSED_CHORD_SQUARED: f32 = 2.5e-5;
 
 /// Where a lens reader gets its rays.
@@ -77,7 +77,7 @@ impl RaySampler {
         &self.rays
     }
 
-    /// The interpolated ray at film position `p` of the output (SPEC §6).
+    /// The interpolated ray at film position `p` of the output (docs/design.md §6).
     #[inline]
     pub fn at(&self, p: Vec2) -> StoredRay {
         let f = &*self.rays;
@@ -229,5 +229,222 @@ impl LensShader for LensReader {
 }
 
 #[cfg(test)]
-#[path = "lens_reader_tests.rs"]
-mod tests;
+mod tests {
+    //! Tests of the lens reader (docs/design.md §6).
+
+    use super::*;
+    use crate::names::rerender_name;
+    use crate::ray_file::RayFormat;
+    use crate::slerp::angle_between;
+    use crate::test_util::{Rng, scratch_dir};
+    use glam::Vec3;
+    use tracer::camera::{CameraDesc, Projection};
+    use tracer::lens::{FrameInfo, LensChain, RayGenerator};
+
+    /// A smooth but non-linear field of rays, with some jitter so interpolation is not trivial.
+    fn field(w: u32, h: u32, seed: u64) -> RayFile {
+        let mut rng = Rng::new(seed);
+        let rays = (0..w * h)
+            .map(|p| {
+                let (x, y) = ((p % w) as f32, (p / w) as f32);
+                let o = Vec3::new(x * 0.1, y * 0.2, (x * y).sin()) + rng.direction() * 0.01;
+                let d = Vec3::new((x * 0.3).sin(), (y * 0.25).cos(), -1.0 - 0.1 * x) + rng.direction() * 0.05;
+                StoredRay::new(o, d.normalize())
+            })
+            .collect();
+        RayFile::new(w, h, seed as u32, 0, rays).unwrap()
+    }
+
+    fn bits(r: &StoredRay) -> [u32; 6] {
+        bytemuck::cast(*r)
+    }
+
+    fn close(a: &StoredRay, b: &StoredRay) -> bool {
+        (a.origin - b.origin).length() < 1e-5 && angle_between(a.direction, b.direction) < 1e-5
+    }
+
+    #[test]
+    fn exact_at_pixel_centres_of_a_same_size_output() {
+        for (w, h) in [(1, 1), (1, 7), (9, 1), (31, 17)] {
+            let f = Arc::new(field(w, h, 1));
+            let s = RaySampler::new(f.clone(), UVec2::new(w, h)).unwrap();
+            for j in 0..h {
+                for i in 0..w {
+                    let got = s.at(Vec2::new(i as f32 + 0.5, j as f32 + 0.5));
+                    assert_eq!(bits(&got), bits(f.get(i, j)), "{w}x{h} ({i}, {j})");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn continuous_between_centres() {
+        let f = Arc::new(field(12, 9, 2));
+        let s = RaySampler::new(f.clone(), UVec2::new(30, 20)).unwrap();
+        // Largest neighbour differences bound how fast the ray may move per unit of u.
+        let step = 1e-3f32;
+        for y in [0.0f32, 3.3, 9.99, 14.5, 20.0] {
+            let mut prev = s.at(Vec2::new(0.0, y));
+            let mut x = step;
+            while x <= 30.0 {
+                let r = s.at(Vec2::new(x, y));
+                let moved = (r.origin - prev.origin).length();
+                let turned = angle_between(r.direction, prev.direction);
+                // One output pixel is 0.4 file pixels; neighbours differ by < 1 unit and < 1 rad.
+                assert!(moved < 2e-3 && turned < 2e-3, "jump at ({x}, {y}): {moved} {turned}");
+                assert!(r.defect().is_none());
+                prev = r;
+                x += step;
+            }
+        }
+    }
+
+    #[test]
+    fn twice_and_half_size_outputs_sample_the_right_positions() {
+        let (w, h) = (8, 6);
+        let f = Arc::new(field(w, h, 3));
+        let lerp = |a: StoredRay, b: StoredRay, t: f32| lerp_rays(&a, &b, t);
+        let r = |i: u32, j: u32| *f.get(i, j);
+        // 2×: output pixel centre x = i + ½ maps to u = (i + ½)/2 − ½.
+        let s2 = RaySampler::new(f.clone(), UVec2::new(2 * w, 2 * h)).unwrap();
+        assert_eq!(bits(&s2.at(Vec2::new(0.5, 0.5))), bits(&r(0, 0)), "u = −¼ clamps to 0");
+        let got = s2.at(Vec2::new(3.5, 0.5)); // u = 1.25, v = −0.25 → 0
+        assert!(close(&got, &lerp(r(1, 0), r(2, 0), 0.25)));
+        let got = s2.at(Vec2::new(3.5, 4.5)); // u = 1.25, v = 1.75
+        let want = lerp(lerp(r(1, 1), r(2, 1), 0.25), lerp(r(1, 2), r(2, 2), 0.25), 0.75);
+        assert!(close(&got, &want));
+        assert_eq!(bits(&s2.at(Vec2::new(15.5, 11.5))), bits(&r(7, 5)), "u = 7.25 clamps to 7");
+        // ½×: output pixel centre x = i + ½ maps to u = 2i + ½: midway between file pixels 2i and 2i+1.
+        let s_half = RaySampler::new(f.clone(), UVec2::new(w / 2, h / 2)).unwrap();
+        for j in 0..h / 2 {
+            for i in 0..w / 2 {
+                let got = s_half.at(Vec2::new(i as f32 + 0.5, j as f32 + 0.5));
+                let (a, b) = (2 * i, 2 * j);
+                let want =
+                    lerp(lerp(r(a, b), r(a + 1, b), 0.5), lerp(r(a, b + 1), r(a + 1, b + 1), 0.5), 0.5);
+                assert!(close(&got, &want), "({i}, {j})");
+            }
+        }
+    }
+
+    fn camera(res: UVec2) -> Box<dyn tracer::camera::Camera> {
+        CameraDesc::look_at("c", Vec3::ZERO, -Vec3::Z, Vec3::Y, Projection::Perspective { fov_y: 1.0 })
+            .unwrap()
+            .build(res)
+            .unwrap()
+    }
+
+    #[test]
+    fn shades_through_a_lens_chain_from_a_file_or_directory() {
+        let dir = scratch_dir("lens-reader");
+        let f = field(10, 8, 4);
+        let fixed = dir.join("lens.txt");
+        f.write(&fixed, RayFormat::Text).unwrap();
+        for f_num in [3u32, 4] {
+            let mut g = field(10, 8, f_num as u64 + 10);
+            g.frame = f_num;
+            g.write(&dir.join(rerender_name(f_num, RayFormat::Binary)), RayFormat::Binary).unwrap();
+        }
+        let cam = camera(UVec2::new(10, 8));
+        let info = |frame| FrameInfo { frame, camera_id: 0, shutter: (frame as f32, frame as f32 + 0.5) };
+        // Fixed file: every frame the same rays; the ray's time is kept.
+        let mut chain = LensChain::new();
+        chain.push(Box::new(LensReader::new(RaySource::File(fixed.clone()))));
+        for frame in [0, 7] {
+            chain.begin_frame(cam.as_ref(), info(frame)).unwrap();
+            let s = CameraSample {
+                p_film: Vec2::new(3.5, 2.5),
+                p_lens: Vec2::splat(0.5),
+                time: frame as f32 + 0.25,
+            };
+            let ray = chain.generator(cam.as_ref()).generate(&s).unwrap();
+            assert_eq!(ray.origin, f.get(3, 2).origin);
+            assert_eq!(ray.direction, f.get(3, 2).direction);
+            assert_eq!(ray.time, frame as f32 + 0.25);
+        }
+        // Directory: the frame's own file; a missing frame is an error naming the file it wanted.
+        let mut chain = LensChain::new();
+        chain.push(Box::new(LensReader::new(RaySource::Directory(dir.clone()))));
+        chain.begin_frame(cam.as_ref(), info(4)).unwrap();
+        let s = CameraSample { p_film: Vec2::new(0.5, 0.5), p_lens: Vec2::splat(0.5), time: 4.0 };
+        assert_eq!(
+            chain.generator(cam.as_ref()).generate(&s).unwrap().origin,
+            field(10, 8, 14).get(0, 0).origin
+        );
+        let err = chain.begin_frame(cam.as_ref(), info(5)).unwrap_err().to_string();
+        assert!(err.contains("rerender-frame0005"), "{err}");
+        // Motion blur: halfway through the shutter of frame 3, halfway between frames 3 and 4.
+        let mut chain = LensChain::new();
+        chain.push(Box::new(LensReader::new(RaySource::Directory(dir.clone())).with_motion_blur(true)));
+        chain.begin_frame(cam.as_ref(), info(3)).unwrap();
+        let s = CameraSample { p_film: Vec2::new(2.5, 1.5), p_lens: Vec2::splat(0.5), time: 3.5 };
+        let ray = chain.generator(cam.as_ref()).generate(&s).unwrap();
+        let want = lerp_rays(field(10, 8, 13).get(2, 1), field(10, 8, 14).get(2, 1), 0.5);
+        assert!(close(&StoredRay::new(ray.origin, ray.direction), &want));
+        // Frame 4 has no successor: it holds still.
+        chain.begin_frame(cam.as_ref(), info(4)).unwrap();
+        let s = CameraSample { time: 4.5, ..s };
+        let ray = chain.generator(cam.as_ref()).generate(&s).unwrap();
+        assert_eq!(ray.origin, field(10, 8, 14).get(2, 1).origin);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn in_memory_rays_at_another_resolution() {
+        let f = Arc::new(field(6, 4, 5));
+        let mut reader = LensReader::new(RaySource::Rays(f.clone()));
+        let cam = camera(UVec2::new(12, 8));
+        let mut chain = LensChain::new();
+        chain.push(Box::new(LensReader::new(RaySource::Rays(f.clone()))));
+        chain.begin_frame(cam.as_ref(), FrameInfo { frame: 0, camera_id: 0, shutter: (0.0, 0.0) }).unwrap();
+        let upstream = chain.generator(cam.as_ref());
+        let ctx = FrameContext {
+            frame: 0,
+            camera_id: 0,
+            resolution: UVec2::new(12, 8),
+            shutter: (0.0, 0.0),
+            upstream: &upstream,
+        };
+        reader.begin_frame(&ctx).unwrap();
+        let sampler = reader.sampler().unwrap();
+        for p in [Vec2::new(0.0, 0.0), Vec2::new(5.3, 7.9), Vec2::new(12.0, 8.0)] {
+            let s = CameraSample { p_film: p, p_lens: Vec2::ZERO, time: 0.0 };
+            let r = upstream.generate(&s).unwrap();
+            assert_eq!(StoredRay::new(r.origin, r.direction), sampler.at(p));
+        }
+    }
+
+    #[test]
+    fn fused_blend_matches_the_nested_slerps() {
+        // Close neighbours (a smooth camera): the fused path is taken; compare with
+        // docs/design.md §6's form.
+        let (w, h) = (40, 30);
+        let rays = (0..w * h)
+            .map(|p| {
+                let (x, y) = ((p % w) as f32, (p / w) as f32);
+                let d = Vec3::new(x * 0.004 - 0.08, y * 0.0035 - 0.05, -1.0).normalize();
+                StoredRay::new(Vec3::new(x, y * 0.5, 1.0), d)
+            })
+            .collect();
+        let f = Arc::new(RayFile::new(w, h, 0, 0, rays).unwrap());
+        let s = RaySampler::new(f.clone(), UVec2::new(97, 61)).unwrap();
+        let mut rng = Rng::new(12);
+        for _ in 0..20000 {
+            let p = Vec2::new(rng.unit() * 97.0, rng.unit() * 61.0);
+            let got = s.at(p);
+            let u = (p.x as f64 * 40.0 / 97.0 - 0.5).clamp(0.0, 39.0);
+            let v = (p.y as f64 * 30.0 / 61.0 - 0.5).clamp(0.0, 29.0);
+            let (i, j) = (u.floor() as u32, v.floor() as u32);
+            let (i1, j1) = ((i + 1).min(39), (j + 1).min(29));
+            let (ss, tt) = ((u - i as f64) as f32, (v - j as f64) as f32);
+            let want = lerp_rays(
+                &lerp_rays(f.get(i, j), f.get(i1, j), ss),
+                &lerp_rays(f.get(i, j1), f.get(i1, j1), ss),
+                tt,
+            );
+            assert!(angle_between(got.direction, want.direction) < 2e-7, "{p}");
+            assert!((got.origin - want.origin).length() < 1e-5, "{p}");
+            assert!((got.direction.length() - 1.0).abs() < 1e-6);
+        }
+    }
+}

@@ -1,4 +1,4 @@
-//! The lens writer (SPEC §4, §8 `render --lens-writer`): a lens shader that records the
+//! The lens writer (docs/design.md §4.7, `render --lens-writer`): a lens shader that records the
 //! pixel-centre eye ray of every pixel of a source view into `frameFFFFcameraCC.{mcr|txt}`.
 //!
 //! The column's writer appended one line per traced ray inside a lock — slow, and it needed pixel

@@ -1,13 +1,15 @@
-//! The multicamera collage (MCC, SPEC §4–6): ray files and their names, the camera tag code, collage
-//! and region decoding, the lens remapper, and the lens writer and reader that plug into the tracer
-//! as [`tracer::lens::LensShader`]s. Library code reports every problem as an [`MccError`] that names
-//! the file and what is wrong with it; it never prints.
+//! The multicamera collage (MCC, docs/design.md §4–6): ray files and their names, the camera tag
+//! code, collage and region decoding, the lens remapper, and the lens writer and reader that plug
+//! into the tracer as [`tracer::lens::LensShader`]s. Library code reports every problem as an
+//! [`MccError`] that names the file and what is wrong with it; it never prints.
 #![warn(missing_docs)]
 
 pub mod collage;
 pub mod compose;
 pub mod error;
 pub mod inbetween;
+pub mod job;
+pub mod layers;
 pub mod lens_reader;
 pub mod lens_writer;
 pub mod names;

@@ -1,4 +1,4 @@
-//! Region images (SPEC §4, "Region image"): optional, at the collage's resolution; a region is the
+//! Region images (docs/design.md §4.6): optional, at the collage's resolution; a region is the
 //! set of pixels of one exact colour (not necessarily connected). Given explicitly or found beside
 //! the collage as `<collage-stem>-regions.png`; without one, the whole picture is one region.
 //!
@@ -26,19 +26,23 @@ pub struct Regions {
 }
 
 /// What identifies a region to a user.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct RegionInfo {
-    /// Colour, 16-bit RGBA.
+    /// Colour, 16-bit RGBA (unused for a region from a layer).
     pub colour: [u16; 4],
     /// First pixel in raster order, (x, y).
     pub first: (u32, u32),
+    /// The layer it came from, in a layered file (`layer "sky"`); `None` in a region image.
+    pub layer: Option<String>,
 }
 
 impl std::fmt::Display for RegionInfo {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let [r, g, b, a] = self.colour;
         let (x, y) = self.first;
-        if [r, g, b, a].iter().all(|v| v % 257 == 0) {
+        if let Some(layer) = &self.layer {
+            write!(f, "{layer}")?;
+        } else if [r, g, b, a].iter().all(|v| v % 257 == 0) {
             write!(f, "colour #{:02x}{:02x}{:02x}", r / 257, g / 257, b / 257)?;
             if a != u16::MAX {
                 write!(f, " alpha {}", a / 257)?;
@@ -53,7 +57,7 @@ impl std::fmt::Display for RegionInfo {
 impl Regions {
     /// One region covering a `width × height` picture.
     pub fn single(width: u32, height: u32) -> Self {
-        let info = vec![RegionInfo { colour: [0, 0, 0, u16::MAX], first: (0, 0) }];
+        let info = vec![RegionInfo { colour: [0, 0, 0, u16::MAX], first: (0, 0), layer: None }];
         Self { width, height, index: vec![0; width as usize * height as usize], info }
     }
 
@@ -82,7 +86,7 @@ impl Regions {
                 Some((c, r)) if c == p.0 => r,
                 _ => *lookup.entry(p.0).or_insert_with(|| {
                     let k = k as u32;
-                    info.push(RegionInfo { colour: p.0, first: (k % width, k / width) });
+                    info.push(RegionInfo { colour: p.0, first: (k % width, k / width), layer: None });
                     info.len() as u32 - 1
                 }),
             };

@@ -1,4 +1,4 @@
-//! Spherical interpolation of unit directions (SPEC §5 step 5, §6, NOTES "Numerical robustness").
+//! Spherical interpolation of unit directions (docs/design.md §5.7; §5.5, §6).
 //!
 //! `acos(a·b)` loses all precision near 0 and π, and glam's `Vec3::slerp` is 1.5e-2 rad off at
 //! θ = 3.14; opposite eye rays are normal in a collage (two cameras facing each other), so this
@@ -78,7 +78,7 @@ fn slerp_wide(a: Vec3, b: Vec3, d: Vec3, d2: f32, t: f32) -> Vec3 {
 /// atan2(y, x) for y, x ≥ 0 (not both 0), i.e. half the angle between unit vectors whose
 /// difference and sum have lengths y and x. Cephes' `atanf` reduction and polynomial (relative
 /// error under 2e-7) without libm's special-case handling: the burp of a many-camera collage
-/// spends a third of its time here.
+/// spends much of its time here (docs/performance.md, ledger: "polynomial atan in slerp").
 #[inline]
 fn half_angle(y: f32, x: f32) -> f32 {
     use std::f32::consts::{FRAC_PI_2, FRAC_PI_4};

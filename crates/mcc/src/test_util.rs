@@ -1,5 +1,7 @@
-//! Test helpers: a deterministic generator and scratch directories (tests only).
+//! Test helpers: a deterministic generator, scratch directories and synthetic views (tests only).
 
+use crate::ray_file::{RayFile, StoredRay};
+use glam::Vec3;
 use std::path::PathBuf;
 
 /// SplitMix64: tiny, deterministic, good enough to draw random test cases.
@@ -42,4 +44,47 @@ pub fn scratch_dir(name: &str) -> PathBuf {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("scratch dir");
     dir
+}
+
+/// A pinhole-like view: camera `id` at its own position, looking along its own axis.
+pub fn view(id: u32, w: u32, h: u32) -> RayFile {
+    let eye = Vec3::new(id as f32, -(id as f32) * 0.5, 2.0 * id as f32);
+    let forward = if id.is_multiple_of(2) { Vec3::Z } else { -Vec3::Z }; // even and odd cameras face each other
+    let rays = (0..w * h)
+        .map(|p| {
+            let (x, y) = ((p % w) as f32 + 0.5, (p / w) as f32 + 0.5);
+            let d = forward + Vec3::new(x / w as f32 - 0.5, 0.5 - y / h as f32, 0.0) * 0.8;
+            StoredRay::new(eye, d.normalize())
+        })
+        .collect();
+    RayFile::new(w, h, 5, id, rays).unwrap()
+}
+
+/// A scene that shows nothing but a constant sky of radiance `sky` (one small triangle far
+/// behind every test camera keeps the BVH non-empty).
+pub fn sky_scene(sky: Vec3) -> tracer::scene::Scene {
+    let mut scene = tracer::scene::Scene {
+        materials: vec![tracer::material::Material::diffuse("far", Vec3::splat(0.5))],
+        environment: tracer::scene::Environment { color: sky },
+        ..Default::default()
+    };
+    let positions = [Vec3::new(0.0, 0.0, 100.0), Vec3::new(1.0, 0.0, 100.0), Vec3::new(0.0, 1.0, 100.0)];
+    let part = tracer::scene::MeshPart {
+        positions: &positions,
+        normals: None,
+        uvs: None,
+        indices: None,
+        material: 0,
+    };
+    scene.mesh.push(part).unwrap();
+    scene
+}
+
+/// A perspective camera at the origin looking down −Z at `res`.
+pub fn forward_camera(res: glam::UVec2) -> Box<dyn tracer::camera::Camera> {
+    let projection = tracer::camera::Projection::Perspective { fov_y: 0.8 };
+    tracer::camera::CameraDesc::look_at("forward", Vec3::ZERO, -Vec3::Z, Vec3::Y, projection)
+        .unwrap()
+        .build(res)
+        .unwrap()
 }

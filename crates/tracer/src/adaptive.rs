@@ -11,9 +11,13 @@
 //! Everything is a pure function of the pilot film, computed in a fixed order, so the counts
 //! (and the image) do not depend on the thread count.
 
-use crate::compare::REL_MSE_EPSILON;
 use crate::film::PixelAccumulator;
 use crate::sampler::MAX_SAMPLES_PER_PIXEL;
+
+/// relMSE's regulariser: a squared error is divided by r² + this, so black pixels count their
+/// error against 0.1 rather than divide by zero (`compare::rel_mse`; the pilot's relative noise
+/// is weighed the same way).
+pub const REL_MSE_EPSILON: f64 = 0.01;
 
 /// The pilot pass takes this fraction (1 / `PILOT_SHARE`) of the average samples per pixel.
 pub const PILOT_SHARE: u32 = 4;

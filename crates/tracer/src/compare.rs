@@ -1,14 +1,13 @@
 //! Image statistics for tests and benchmarks: error metrics (MSE, relMSE) and the statistical
 //! golden test that tells "noisy but right" from "wrong" without flaky thresholds.
 //!
-//! The statistical test is Mitsuba 3's (shared NOTES.md, "Testing a Monte Carlo renderer without
-//! flaky tests"): each pixel-channel's difference from the reference, divided by the standard
-//! error the render's own per-sample variance predicts, is a z-score; its two-sided p-value is
-//! compared with a Šidák-corrected significance so that the chance of *any* false failure in a
-//! correct image is 1 %, and the test passes when ≥ 99.75 % of pixel-channels pass. Because a
-//! small global bias (a 2 % darker image) hides under per-pixel noise, an image-level check adds
-//! the z-score of each channel's mean difference. All functions panic if the images' sizes differ
-//! (a programming error, not a measurement).
+//! The statistical test is Mitsuba 3's (docs/testing.md §2): each pixel-channel's difference from
+//! the reference, divided by the standard error the render's own per-sample variance predicts, is a
+//! z-score; its two-sided p-value is compared with a Šidák-corrected significance so that the
+//! chance of *any* false failure in a correct image is 1 %, and the test passes when ≥ 99.75 % of
+//! pixel-channels pass. Because a small global bias (a 2 % darker image) hides under per-pixel
+//! noise, an image-level check adds the z-score of each channel's mean difference. All functions
+//! panic if the images' sizes differ (a programming error, not a measurement).
 
 use crate::image::RgbImage;
 use std::fmt;
@@ -18,9 +17,9 @@ pub fn mse(image: &RgbImage, reference: &RgbImage) -> f64 {
     mean_over_channels(image, reference, |x, r| (x - r) * (x - r))
 }
 
-/// relMSE's regulariser: a squared error is divided by r² + this, so black pixels count their
-/// error against 0.1 rather than divide by zero (adaptive sampling weighs noise the same way).
-pub const REL_MSE_EPSILON: f64 = 0.01;
+// relMSE's regulariser lives with adaptive sampling, which renders use (this module is built for
+// tests and benchmarks only, the `test-support` feature).
+pub use crate::adaptive::REL_MSE_EPSILON;
 
 /// Relative MSE, the Cornell README's convention: mean over pixels *and* channels of
 /// (x − r)² / (r² + 0.01). (pbrt's variant divides by (r + 0.01)²; the numbers differ.)
@@ -157,8 +156,8 @@ impl StatReport {
 
 impl StatTest {
     /// Tests a noisy render against a converged reference whose own noise is negligible (per
-    /// NOTES.md, the render's own variance stands in when the reference has no variance image):
-    /// z = |x − ref| · sqrt(N / max(var, floor)).
+    /// docs/testing.md §2, the render's own variance stands in when the reference has no variance
+    /// image): z = |x − ref| · sqrt(N / max(var, floor)).
     pub fn against_reference(&self, test: Estimate<'_>, reference: &RgbImage) -> StatReport {
         assert_same_size(&[(test.mean, "mean"), (test.variance, "variance"), (reference, "reference")]);
         let floor = self.variance_floor;

@@ -46,6 +46,17 @@ pub enum TracerError {
     /// A render setting is out of range (resolution, sample count, depth …).
     #[error("invalid setting: {0}")]
     Settings(String),
+    /// The caller cancelled the work (`render::Progress::cancelled`); nothing was written.
+    #[error("cancelled")]
+    Cancelled,
+    /// Rendering one camera failed (the camera's name, then what went wrong).
+    #[error("rendering camera '{camera}': {error}")]
+    Render {
+        /// The camera's name.
+        camera: String,
+        /// What went wrong (in the message, not a separate `source()`).
+        error: Box<TracerError>,
+    },
     /// A lens shader failed in its per-frame set-up or tear-down.
     #[error("lens shader '{shader}': {error}")]
     Lens {

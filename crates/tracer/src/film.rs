@@ -1,4 +1,4 @@
-//! The film (SPEC §3, "Film"): box-filtered pixels — each sample counts fully in the pixel its
+//! The film (docs/design.md §3.6): box-filtered pixels — each sample counts fully in the pixel its
 //! film position falls in, so a pixel's value is the plain mean of its samples. Alongside the
 //! mean, each pixel keeps the sum of squares for the per-sample variance (the statistical
 //! golden tests and the variance AOV need it) and the first-hit AOVs.
@@ -94,6 +94,28 @@ pub struct FilmImages {
     pub normal: RgbImage,
     /// Mean first-hit distance (0 where nothing was hit).
     pub depth: GrayImage,
+}
+
+impl FilmImages {
+    /// Every image without a border of `n` pixels on each side (undoing a camera's overscan);
+    /// `None` when the border leaves no pixel.
+    pub fn without_border(&self, n: u32) -> Option<Self> {
+        let (w, h) = (self.image.width, self.image.height);
+        if 2 * n as u64 >= w as u64 || 2 * n as u64 >= h as u64 {
+            return None;
+        }
+        let (cw, ch) = (w - 2 * n, h - 2 * n);
+        let rgb = |x: &RgbImage| x.crop(n, n, cw, ch);
+        let gray = |x: &GrayImage| x.crop(n, n, cw, ch);
+        Some(Self {
+            image: rgb(&self.image)?,
+            variance: rgb(&self.variance)?,
+            samples: gray(&self.samples)?,
+            albedo: rgb(&self.albedo)?,
+            normal: rgb(&self.normal)?,
+            depth: gray(&self.depth)?,
+        })
+    }
 }
 
 impl Film {

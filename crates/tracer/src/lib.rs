@@ -1,6 +1,6 @@
 //! mcctrace's tracer: a BVH-accelerated unidirectional path tracer whose camera passes every eye
-//! ray through a chain of lens shaders (SPEC §3). It knows nothing about the multicamera collage;
-//! the `mcc` crate plugs in through [`lens::LensShader`].
+//! ray through a chain of lens shaders (docs/design.md §3). It knows nothing about the multicamera
+//! collage; the `mcc` crate plugs in through [`lens::LensShader`].
 #![warn(missing_docs)]
 #![allow(
     clippy::neg_cmp_op_on_partial_ord,
@@ -12,6 +12,7 @@ pub mod atomic;
 pub mod bsdf;
 pub mod bvh;
 pub mod camera;
+#[cfg(any(test, feature = "test-support"))]
 pub mod compare;
 pub mod error;
 pub mod film;
@@ -19,6 +20,7 @@ pub mod image;
 pub mod image_io;
 pub mod integrator;
 pub mod interaction;
+pub mod job;
 pub mod lens;
 pub mod light;
 pub mod material;

@@ -1,4 +1,4 @@
-//! Sample generation (SPEC §3, "Sampling and determinism"): every random number is a pure
+//! Sample generation (docs/design.md §3.5): every random number is a pure
 //! function of (pixel, sample index, dimension, seed), so an image is the same bit for bit
 //! whatever the thread count or tile order.
 //!
@@ -40,7 +40,7 @@ pub mod sets {
 /// bit-reversed sample index that matter (indices are below 2^16). The sequence is linear over
 /// GF(2), sobol(a ⊕ b) = sobol(a) ⊕ sobol(b), so two lookups give what `sobol_burley` builds
 /// with a loop over the index's set bits (eight steps on average, each a mispredicted branch
-/// for a scrambled index).
+/// for a scrambled index; docs/performance.md, ledger: "Sobol step from a byte table").
 static SOBOL_BYTES: LazyLock<[[Int4; 256]; 2]> = LazyLock::new(|| {
     std::array::from_fn(|k| std::array::from_fn(|b| parts::sobol_int4_rev((b as u32) << (24 - 8 * k), 0)))
 });

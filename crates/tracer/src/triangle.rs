@@ -116,8 +116,9 @@ impl WatertightRay {
                 // The triangle lies in the plane across the ray's dominant axis through its
                 // origin, which the ray meets only at t = 0: a miss, exactly. This is every
                 // ray leaving an axis-aligned wall, tested against the wall's own triangles
-                // (the hit point, and so the origin, has no rounding error there); they were
-                // 7 % of the Cornell box's triangle tests, sent to the f64 path for nothing.
+                // (the hit point, and so the origin, has no rounding error there), which would
+                // go to the f64 path for nothing
+                // (docs/performance.md, ledger: "in-plane triangle is a miss").
                 return None;
             }
             return self.intersect_f64(&sheared, t_max);

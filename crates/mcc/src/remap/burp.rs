@@ -1,7 +1,7 @@
-//! Step 5 of the remapper (SPEC §5.5): rays. A camera pixel of camera c gets exactly R_c(p), bit
-//! for bit. A background pixel P gets the origin Σ_c α_c·A_c(e_c(P)) and the direction by *burp*
-//! (Glassner's "bilinear uniform repeated" interpolation): order the cameras with α > 0 by
-//! ascending id, p_0 … p_{n−1} their directions D_c(e_c(P)); r_{n−1} = p_{n−1};
+//! Step 5 of the remapper (docs/design.md §5.5): rays. A camera pixel of camera c gets exactly
+//! R_c(p), bit for bit. A background pixel P gets the origin Σ_c α_c·A_c(e_c(P)) and the direction
+//! by *burp* (Glassner's "bilinear uniform repeated" interpolation): order the cameras with α > 0
+//! by ascending id, p_0 … p_{n−1} their directions D_c(e_c(P)); r_{n−1} = p_{n−1};
 //! r_k = slerp(r_{k+1}, p_k, α_k / β_k) with β_k = Σ_{j≥k} α_j; the direction is r_0.
 //! Each step is the accurate [`crate::slerp::slerp`], so nearly opposite eye rays stay exact
 //! and no step yields NaN; α_k / β_k ≤ 1 because β_k ≥ α_k.

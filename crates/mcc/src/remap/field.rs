@@ -1,4 +1,4 @@
-//! One camera's smooth ray field for the seamless blend (docs/seamless-blend.md): the camera's
+//! One camera's smooth ray field for the seamless blend (docs/design.md §5.8): the camera's
 //! edge rays extended over every other pixel by the membrane ([`super::membrane`]), in place of
 //! the column's nearest edge ray, whose choice jumps across medial axes.
 //!
@@ -15,7 +15,7 @@ use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
 /// Relative residual at which the membrane solves stop. Their error is then far below a pixel's
-/// step (tests in `tests/seam.rs` and docs/seamless-blend.md).
+/// step (docs/design.md §5.8).
 const TOLERANCE: f64 = 1e-4;
 /// Iterations a solve may take (it needs about 6 at [`TOLERANCE`]).
 const MAX_ITERATIONS: usize = 30;
@@ -103,7 +103,13 @@ impl FieldSolvers {
     /// The field of camera `c` (its pixels are those with `cam[p] == c`; `edges` marks its edge
     /// pixels): the membrane of its edge rays over every pixel that is not its own. Rows run in
     /// parallel; the result does not depend on the thread count.
-    pub(crate) fn field(&mut self, cam: &[u32], c: u32, edges: &[bool], sources: &[StoredRay]) -> CameraField {
+    pub(crate) fn field(
+        &mut self,
+        cam: &[u32],
+        c: u32,
+        edges: &[bool],
+        sources: &[StoredRay],
+    ) -> CameraField {
         let n = cam.len();
         let edge = |p: usize| cam[p] == c && edges[p];
         let frame = TangentFrame::around((0..n).filter(|&p| edge(p)).map(|p| sources[p].direction));
@@ -120,8 +126,10 @@ impl FieldSolvers {
         if edge_origins.all(|o| bits(o) == bits(origin)) {
             return CameraField { frame, tangent, origins: None, origin };
         }
-        let mut points: Vec<[f32; 3]> =
-            (0..n).into_par_iter().map(|p| if edge(p) { sources[p].origin.to_array() } else { [0.0; 3] }).collect();
+        let mut points: Vec<[f32; 3]> = (0..n)
+            .into_par_iter()
+            .map(|p| if edge(p) { sources[p].origin.to_array() } else { [0.0; 3] })
+            .collect();
         self.origins.solve(|p| cam[p] == c, &mut points, TOLERANCE, MAX_ITERATIONS);
         CameraField { frame, tangent, origins: Some(points), origin }
     }

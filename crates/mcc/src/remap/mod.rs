@@ -1,4 +1,4 @@
-//! The lens remapper (SPEC §5, normative): turns a decoded collage, its regions and the views' ray
+//! The lens remapper (docs/design.md §5): turns a decoded collage, its regions and the views' ray
 //! files into one ray per pixel. Camera pixels keep their camera's ray bit for bit; background
 //! pixels get a ray blended from the nearest edge pixels of every camera:
 //!
@@ -18,8 +18,8 @@
 //! Memory: a camera pixel only ever needs its own camera's ray, and e_c(P) is always a pixel of
 //! camera c, so the remapper keeps a single merged plane of source rays ([`SourceRays`]: R_id(p)(p)
 //! at every camera pixel) instead of every camera's file; [`SourceRays::load`] reads the files one
-//! at a time. Per camera it holds one u32 plane (e_c) and one f32 weight plane; a 4K collage with 16
-//! cameras peaks at about 1.5 GiB (measured by `benches/remap.rs`).
+//! at a time. Per camera it holds one u32 plane (e_c) and one f32 weight plane (peak memory:
+//! `benches/remap.rs`; docs/performance.md, ledger: "merged source-ray plane").
 
 pub mod burp;
 pub mod debug;
@@ -35,7 +35,7 @@ pub mod weights;
 pub use debug::RemapDebug;
 pub use seam::{SeamRatios, SeamSummary};
 
-use crate::collage::{Collage, CollageOptions, StrayReport};
+use crate::collage::{Collage, StrayReport};
 use crate::error::{MccError, Result};
 use crate::ray_file::{RayFile, StoredRay};
 use crate::regions::{RegionInfo, Regions};
@@ -46,15 +46,15 @@ use std::path::{Path, PathBuf};
 /// How background pixels blend the cameras.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Blend {
-    /// The column's method (SPEC §5): nearest edge rays, distance weights, blurs and ease.
+    /// The column's method (docs/design.md §5): nearest edge rays, distance weights, blurs and ease.
     #[default]
     Glassner,
     /// Smooth per-camera ray fields and fading region participation: removes the column's seams
-    /// (docs/seamless-blend.md). Ignores the blur radii and the ease.
+    /// (docs/design.md §5.8). Ignores the blur radii and the ease.
     Seamless,
 }
 
-/// Remapper settings (SPEC §5.4); [`RemapConfig::GLASSNER`] is the default.
+/// Remapper settings (docs/design.md §5.4); [`RemapConfig::GLASSNER`] is the default.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RemapConfig {
     /// How background pixels blend the cameras.
@@ -128,6 +128,8 @@ pub enum RemapWarning {
     },
     /// Stray collage pixels were treated as background (by request).
     StraysIgnored(StrayReport),
+    /// Something about a layered collage's layers (e.g. one too transparent to take a pixel).
+    Layers(String),
 }
 
 impl fmt::Display for RemapWarning {
@@ -139,6 +141,7 @@ impl fmt::Display for RemapWarning {
                  blend all cameras"
             ),
             Self::StraysIgnored(report) => write!(f, "treated as background: {report}"),
+            Self::Layers(note) => write!(f, "{note}"),
         }
     }
 }
@@ -247,7 +250,7 @@ pub fn remap(
     remap_sources(collage, regions, &SourceRays::gather(collage, files)?, frame, config)
 }
 
-/// Remaps a collage (SPEC §5): the returned rays are frame `frame`'s rerender rays.
+/// Remaps a collage (docs/design.md §5): the returned rays are frame `frame`'s rerender rays.
 pub fn remap_sources(
     collage: &Collage,
     regions: &Regions,
@@ -297,7 +300,14 @@ pub fn remap_sources(
                 weights::initial_weights(&cam, &regions.index, &nearest, &participants, cameras.len(), width);
             let background: Vec<bool> = cam.iter().map(|&c| c == 0).collect();
             let radii = (config.first_blur_radius as usize, config.second_blur_radius as usize);
-            smooth::smooth(&mut planes, &background, width, height, radii, smooth::Ease::new(config.ease_control));
+            smooth::smooth(
+                &mut planes,
+                &background,
+                width,
+                height,
+                radii,
+                smooth::Ease::new(config.ease_control),
+            );
             drop(background);
             let (rays, dominant) =
                 burp::remapped_rays(&cam, &sources.rays, &nearest, &planes, width, config.debug);
@@ -311,7 +321,8 @@ pub fn remap_sources(
         }
     };
     // Nothing to measure without background pixels or a pitch: no figures, not an error.
-    let ratios = (config.debug || config.report).then(|| SeamRatios::measure(&rays, &cam, width).ok()).flatten();
+    let ratios =
+        (config.debug || config.report).then(|| SeamRatios::measure(&rays, &cam, width).ok()).flatten();
     let seams = ratios.as_ref().map(|r| r.summary);
     let debug = dominant.map(|dominant| RemapDebug {
         width: collage.width,
@@ -326,48 +337,6 @@ pub fn remap_sources(
     let mut rays = RayFile::new(collage.width, collage.height, frame, 0, rays)?;
     rays.computed = true;
     Ok(RemapOutput { rays, warnings, debug, seams })
-}
-
-/// Everything [`remap_files`] reads.
-#[derive(Clone, Debug)]
-pub struct RemapInputs<'a> {
-    /// The collage image.
-    pub collage: &'a Path,
-    /// The region image; `None` looks for `<collage-stem>-regions.png` beside the collage.
-    pub regions: Option<&'a Path>,
-    /// The directory holding the views' ray files (`frameFFFFcameraCC.{mcr|txt}`).
-    pub rays_dir: &'a Path,
-    /// The frame whose views to use.
-    pub frame: u32,
-    /// How to decode the collage.
-    pub collage_options: CollageOptions,
-}
-
-/// The whole remap stage from files: finds the frame's ray files, decodes the collage against
-/// them, finds the regions, loads the rays one file at a time and remaps. Stray pixels treated as
-/// background come back as a warning.
-pub fn remap_files(inputs: &RemapInputs<'_>, config: &RemapConfig) -> Result<RemapOutput> {
-    config.validate()?;
-    let paths = crate::names::find_view_rays(inputs.rays_dir, inputs.frame)?;
-    if paths.is_empty() {
-        return Err(MccError::Directory {
-            path: inputs.rays_dir.into(),
-            message: format!(
-                "no ray files for frame {} (looked for {} and the like)",
-                inputs.frame,
-                crate::names::view_rays_name(inputs.frame, 1, crate::RayFormat::Binary)
-            ),
-        });
-    }
-    let known: BTreeSet<u32> = paths.keys().copied().collect();
-    let (collage, strays) = Collage::load(inputs.collage, Some(&known), inputs.collage_options)?;
-    let (regions, _) = Regions::find(inputs.collage, inputs.regions, collage.width, collage.height)?;
-    let sources = SourceRays::load(&collage, &paths)?;
-    let mut output = remap_sources(&collage, &regions, &sources, inputs.frame, config)?;
-    if !strays.is_empty() {
-        output.warnings.insert(0, RemapWarning::StraysIgnored(strays));
-    }
-    Ok(output)
 }
 
 #[cfg(test)]

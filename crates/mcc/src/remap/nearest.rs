@@ -1,7 +1,7 @@
-//! Step 2 of the remapper (SPEC §5.2): for every background pixel P and camera c, e_c(P) is the
-//! nearest edge pixel of c in P's region (Euclidean distance between pixel centres; ties to the
-//! smallest row y, then the smallest column x). If c has no edge pixel in that region, c does not
-//! participate at P and e_c(P) is the nearest edge pixel of c anywhere.
+//! Step 2 of the remapper (docs/design.md §5.2): for every background pixel P and camera c, e_c(P)
+//! is the nearest edge pixel of c in P's region (Euclidean distance between pixel centres; ties to
+//! the smallest row y, then the smallest column x). If c has no edge pixel in that region, c does
+//! not participate at P and e_c(P) is the nearest edge pixel of c anywhere.
 //!
 //! The transform is Felzenszwalb & Huttenlocher's exact separable one, carrying the argmin along:
 //! rows first (nearest feature column in each row, filled from the row's sorted edge pixels), then

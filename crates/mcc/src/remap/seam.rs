@@ -1,4 +1,4 @@
-//! The seam ratio (docs/seamless-blend.md): how abruptly a remapped ray field turns at each
+//! The seam ratio (docs/design.md §5.8): how abruptly a remapped ray field turns at each
 //! background pixel, compared with how it turns around that pixel.
 //!
 //! For a pixel p with a right neighbour, s_x(p) is the angle between their directions; s_y(p)
@@ -98,7 +98,10 @@ impl SeamRatios {
             })
             .collect();
         if same.is_empty() {
-            return Err(MccError::input("seam ratio", "no two adjacent pixels of one camera: no pitch to compare with"));
+            return Err(MccError::input(
+                "seam ratio",
+                "no two adjacent pixels of one camera: no pitch to compare with",
+            ));
         }
         let pitch = median(&mut same);
         let floor = pitch / 10.0;
@@ -131,7 +134,9 @@ impl SeamRatios {
             return Err(MccError::input("seam ratio", "the picture has no background pixels to measure"));
         }
         background.par_sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        let rank = |q: f64| background[((q * background.len() as f64).ceil() as usize).clamp(1, background.len()) - 1].0;
+        let rank = |q: f64| {
+            background[((q * background.len() as f64).ceil() as usize).clamp(1, background.len()) - 1].0
+        };
         // The worst pixel: the largest ratio, the first in raster order among equals.
         let max = background.last().expect("non-empty").0;
         let worst = background.iter().filter(|(r, _)| *r == max).map(|&(_, p)| p).min().expect("non-empty");
@@ -195,7 +200,11 @@ mod tests {
         (0..w * h)
             .map(|p| {
                 let (x, y) = ((p % w) as f32 + 0.5, (p / w) as f32 + 0.5);
-                let d = Vec3::new((2.0 * x / w as f32 - 1.0) * t * w as f32 / h as f32, (1.0 - 2.0 * y / h as f32) * t, -1.0);
+                let d = Vec3::new(
+                    (2.0 * x / w as f32 - 1.0) * t * w as f32 / h as f32,
+                    (1.0 - 2.0 * y / h as f32) * t,
+                    -1.0,
+                );
                 StoredRay::new(Vec3::ZERO, d.normalize())
             })
             .collect()
@@ -206,8 +215,9 @@ mod tests {
         // A border of camera pixels (for the pitch), the rest background: all one smooth view.
         let (w, h) = (160, 90);
         let rays = pinhole(w, h, 1.0);
-        let camera: Vec<u32> =
-            (0..w * h).map(|p| (p % w < 10 || p % w >= w - 10 || p / w < 10 || p / w >= h - 10) as u32).collect();
+        let camera: Vec<u32> = (0..w * h)
+            .map(|p| (p % w < 10 || p % w >= w - 10 || p / w < 10 || p / w >= h - 10) as u32)
+            .collect();
         let s = SeamRatios::measure(&rays, &camera, w).unwrap().summary;
         assert_eq!(s.pixels, (w - 20) * (h - 20));
         // Adjacent pinhole rays differ by 2·tan(fov/2)/h at the centre, by cos² of the angle off
@@ -229,7 +239,17 @@ mod tests {
                 StoredRay::new(Vec3::ZERO, Vec3::new(a.cos() * b.cos(), b.sin(), a.sin() * b.cos()))
             })
             .collect();
-        let camera: Vec<u32> = (0..w * h).map(|p| if p % w == 0 { 1 } else if p % w == w - 1 { 2 } else { 0 }).collect();
+        let camera: Vec<u32> = (0..w * h)
+            .map(|p| {
+                if p % w == 0 {
+                    1
+                } else if p % w == w - 1 {
+                    2
+                } else {
+                    0
+                }
+            })
+            .collect();
         let s = SeamRatios::measure(&rays, &camera, w).unwrap();
         for (p, r) in s.ratios.iter().enumerate() {
             if camera[p] == 0 {
@@ -276,135 +296,5 @@ mod tests {
         assert!(SeamRatios::measure(&rays, &[0; 12], 4).unwrap_err().to_string().contains("pitch"));
         assert!(SeamRatios::measure(&rays, &[1; 12], 4).unwrap_err().to_string().contains("no background"));
         assert!(SeamRatios::measure(&rays, &[0; 12], 5).is_err());
-    }
-}
-
-#[cfg(test)]
-mod scratch {
-    #[test]
-    #[ignore]
-    fn measure_files() {
-        let rays = crate::RayFile::read(std::path::Path::new(&std::env::var("SEAM_RAYS").unwrap())).unwrap();
-        let (collage, _) = crate::Collage::load(std::path::Path::new(&std::env::var("SEAM_COLLAGE").unwrap()), None, Default::default()).unwrap();
-        let s = super::SeamRatios::measure(&rays.rays, &collage.ids, rays.width as usize).unwrap();
-        println!("{}", s.summary);
-        if let Ok(out) = std::env::var("SEAM_MAP") {
-            s.image().save(out).unwrap();
-        }
-    }
-}
-
-#[cfg(test)]
-mod scratch2 {
-    #[test]
-    #[ignore]
-    fn remap_demo() {
-        let dir = std::path::PathBuf::from(std::env::var("SEAM_DIR").unwrap());
-        let collage = dir.join(std::env::var("SEAM_COLLAGE_NAME").unwrap_or("collage.png".into()));
-        let regions = std::env::var("SEAM_REGIONS").ok().map(|r| dir.join(r));
-        let inputs = crate::remap::RemapInputs {
-            collage: &collage,
-            regions: regions.as_deref(),
-            rays_dir: &dir.join("views"),
-            frame: 0,
-            collage_options: Default::default(),
-        };
-        for (name, preset) in [("glassner", crate::RemapConfig::GLASSNER), ("seamless", crate::RemapConfig::SEAMLESS)] {
-            let config = crate::RemapConfig { debug: true, ..preset };
-            let t = std::time::Instant::now();
-            let out = crate::remap::remap_files(&inputs, &config).unwrap();
-            println!("{name}: {:.3} s, {}", t.elapsed().as_secs_f64(), out.seams.unwrap());
-            let d = dir.join(format!("debug-{name}"));
-            std::fs::create_dir_all(&d).unwrap();
-            out.debug.unwrap().write_pngs(&d, 0).unwrap();
-            out.rays.write(&dir.join(format!("rerender-{name}.mcr")), crate::RayFormat::Binary).unwrap();
-        }
-    }
-}
-
-#[cfg(test)]
-mod scratch3 {
-    use crate::*;
-    use std::collections::BTreeMap;
-    #[test]
-    #[ignore]
-    fn ring_and_blobs() {
-        let dir = std::path::PathBuf::from(std::env::var("SEAM_DIR").unwrap());
-        let files: BTreeMap<u32, RayFile> = [1u32, 2].iter().map(|&id| (id, RayFile::read(&dir.join(format!("views/frame0000camera{id:02}.mcr"))).unwrap())).collect();
-        let (w, h) = (files[&1].width, files[&1].height);
-        let ring: Vec<u32> = (0..w * h).map(|p| {
-            let (x, y) = ((p % w) as f32 + 0.5 - w as f32 / 2.0, (p / w) as f32 + 0.5 - h as f32 / 2.0);
-            let r = (x * x + y * y).sqrt();
-            let e = ((x / (0.47 * w as f32)).powi(2) + (y / (0.47 * h as f32)).powi(2)).sqrt();
-            if (45.0..100.0).contains(&r) { 1 } else if e > 1.0 { 2 } else { 0 }
-        }).collect();
-        let blobs: Vec<u32> = (0..w * h).map(|p| {
-            let (x, y) = ((p % w) as f32 + 0.5, (p / w) as f32 + 0.5);
-            let d1 = ((x - 0.25 * w as f32).powi(2) + (y - 0.42 * h as f32).powi(2)).sqrt();
-            let d2 = ((x - 0.72 * w as f32).powi(2) + (y - 0.45 * h as f32).powi(2)).sqrt();
-            if d1 < 70.0 || d2 < 55.0 { 1 } else if y > 0.9 * h as f32 { 2 } else { 0 }
-        }).collect();
-        for (name, ids) in [("ring", ring), ("blobs", blobs)] {
-            let collage = Collage::new(w, h, ids).unwrap();
-            for (mode, preset) in [("glassner", RemapConfig::GLASSNER), ("seamless", RemapConfig::SEAMLESS)] {
-                let config = RemapConfig { debug: true, ..preset };
-                let t = std::time::Instant::now();
-                let out = remap(&collage, &Regions::single(w, h), &files, 0, &config).unwrap();
-                println!("{name} {mode}: {:.3} s, {}", t.elapsed().as_secs_f64(), out.seams.unwrap());
-                let d = dir.join(format!("debug-{name}-{mode}"));
-                std::fs::create_dir_all(&d).unwrap();
-                out.debug.unwrap().write_pngs(&d, 0).unwrap();
-            }
-        }
-    }
-}
-
-#[cfg(test)]
-mod scratch4 {
-    use crate::*;
-    use glam::Vec3;
-    fn view_ray(id: u32, cameras: u32, x: u32, y: u32, w: u32, h: u32) -> StoredRay {
-        let a = std::f32::consts::TAU * (id - 1) as f32 / cameras as f32;
-        let eye = Vec3::new(5.0 * a.cos(), 1.0 + 0.1 * id as f32, 5.0 * a.sin());
-        let forward = (-eye).normalize();
-        let right = forward.cross(Vec3::Y).normalize();
-        let up = right.cross(forward);
-        let tan = 0.4f32;
-        let sx = (2.0 * (x as f32 + 0.5) / w as f32 - 1.0) * tan * w as f32 / h as f32;
-        let sy = (1.0 - 2.0 * (y as f32 + 0.5) / h as f32) * tan;
-        StoredRay::new(eye, (forward + sx * right + sy * up).normalize())
-    }
-    #[test]
-    #[ignore]
-    fn synthetic_1080p() {
-        let (w, h, cameras) = (1920u32, 1080u32, 8u32);
-        let mut ids = vec![0u32; (w * h) as usize];
-        for id in 1..=cameras {
-            let t = (id - 1) as f32 / cameras as f32;
-            let (cx, cy) = (0.15 + 0.7 * t, 0.5 + 0.3 * (t * 11.0).sin());
-            for y in 0..h {
-                let v = (y as f32 + 0.5) / h as f32;
-                for x in 0..w {
-                    let u = (x as f32 + 0.5) / w as f32;
-                    if ((u - cx) / 0.13).powi(2) + ((v - cy) / 0.22).powi(2) <= 1.0 {
-                        ids[(y * w + x) as usize] = id;
-                    }
-                }
-            }
-        }
-        let collage = Collage::new(w, h, ids).unwrap();
-        let img = image::RgbImage::from_fn(w, h, |x, y| {
-            let (u, v) = (x as f32 / w as f32, y as f32 / h as f32);
-            image::Rgb(if v > 0.8 + 0.05 * (u * 20.0).sin() { [0, 0, 255] } else if u < 0.5 { [255, 0, 0] } else { [0, 255, 0] })
-        });
-        let regions = Regions::from_image(&image::DynamicImage::ImageRgb8(img));
-        let rays = collage.ids.iter().enumerate().map(|(p, &id)| if id == 0 { StoredRay::default() } else { view_ray(id, cameras, p as u32 % w, p as u32 / w, w, h) }).collect();
-        let src = remap::SourceRays { width: w, height: h, rays, cameras: collage.cameras() };
-        let mode = std::env::var("SEAM_MODE").unwrap_or_default();
-        let config = if mode == "glassner" { RemapConfig::GLASSNER } else { RemapConfig::SEAMLESS };
-        let t = std::time::Instant::now();
-        let out = remap::remap_sources(&collage, &regions, &src, 0, &config).unwrap();
-        println!("{mode}: {:.3} s", t.elapsed().as_secs_f64());
-        std::hint::black_box(out);
     }
 }

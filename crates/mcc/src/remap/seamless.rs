@@ -1,4 +1,4 @@
-//! The seamless blend ([`super::Blend::Seamless`], docs/seamless-blend.md): the column's blend
+//! The seamless blend ([`super::Blend::Seamless`], docs/design.md §5.8): the column's blend
 //! of every camera's ray by distance weights and burp, with the two sources of its tears
 //! replaced.
 //!
@@ -173,12 +173,8 @@ fn blend(
             continue;
         }
         let field = solvers.field(cam, c, edges, sources);
-        origin
-            .par_iter_mut()
-            .zip(beta.par_iter_mut())
-            .zip(direction.par_iter_mut())
-            .enumerate()
-            .for_each(|(p, ((o, b), d))| {
+        origin.par_iter_mut().zip(beta.par_iter_mut()).zip(direction.par_iter_mut()).enumerate().for_each(
+            |(p, ((o, b), d))| {
                 let a = plane[p];
                 if cam[p] != 0 || a.is_nan() || a <= 0.0 {
                     return;
@@ -190,7 +186,8 @@ fn blend(
                     None => f,
                     Some(r) => slerp(r, f, (a / *b).min(1.0)),
                 });
-            });
+            },
+        );
     }
     (0..cam.len())
         .into_par_iter()
@@ -205,4 +202,102 @@ fn blend(
             }
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::collage::Collage;
+    use crate::ray_file::{RayFile, StoredRay};
+    use crate::regions::Regions;
+    use crate::remap::{RemapConfig, SeamSummary, remap};
+    use glam::{Quat, Vec3};
+    use std::collections::BTreeMap;
+
+    /// A pinhole view of camera `id` at the origin, turned by `yaw` about the vertical (a field of
+    /// view of about 0.9 rad across `w`).
+    fn turned(id: u32, yaw: f32, w: u32, h: u32) -> RayFile {
+        let turn = Quat::from_rotation_y(yaw);
+        let rays = (0..w * h)
+            .map(|p| {
+                let (x, y) = ((p % w) as f32 + 0.5 - w as f32 / 2.0, h as f32 / 2.0 - (p / w) as f32 - 0.5);
+                StoredRay::new(Vec3::ZERO, turn * Vec3::new(x / w as f32, y / w as f32, -1.0).normalize())
+            })
+            .collect();
+        RayFile::new(w, h, 0, id, rays).unwrap()
+    }
+
+    /// Both blends' seam figures on a collage labelled by `label(x, y)`, with regions
+    /// `region(x, y)` (a colour per region), views yawed by `yaws[id - 1]`.
+    fn both(
+        w: u32,
+        h: u32,
+        yaws: &[f32],
+        label: impl Fn(u32, u32) -> u32,
+        region: impl Fn(u32, u32) -> u8,
+    ) -> [SeamSummary; 2] {
+        let ids = (0..w * h).map(|p| label(p % w, p / w)).collect();
+        let collage = Collage::new(w, h, ids).unwrap();
+        let img = image::RgbImage::from_fn(w, h, |x, y| image::Rgb([region(x, y), 0, 0]));
+        let regions = Regions::from_image(&image::DynamicImage::ImageRgb8(img));
+        let files: BTreeMap<u32, RayFile> = yaws
+            .iter()
+            .enumerate()
+            .map(|(k, &yaw)| (k as u32 + 1, turned(k as u32 + 1, yaw, w, h)))
+            .collect();
+        [RemapConfig::GLASSNER, RemapConfig::SEAMLESS].map(|preset| {
+            let out = remap(&collage, &regions, &files, 0, &RemapConfig { report: true, ..preset }).unwrap();
+            for (p, (&id, r)) in collage.ids.iter().zip(&out.rays.rays).enumerate() {
+                if id != 0 {
+                    assert_eq!(r, &files[&id].rays[p], "camera pixels keep their rays");
+                }
+            }
+            out.seams.unwrap()
+        })
+    }
+
+    #[test]
+    fn no_tear_at_a_region_boundary() {
+        // The column's figure 11 with a twist: camera 1 on the left, camera 2 top right and
+        // again bottom middle, camera 3 bottom right, and a region boundary across the middle.
+        // Below it camera 2's nearest edge pixel in the region is on its lower piece, above it on
+        // its upper piece: the column's ray jumps at the boundary, and its blurs smooth only the
+        // weights. Camera 3 takes part only below: the seamless blend fades it in.
+        let (w, h) = (160, 120);
+        let label = |x: u32, y: u32| match (x, y) {
+            (0..24, _) => 1,
+            (136.., 0..40) | (60..80, 100..) => 2,
+            (136.., 80..) => 3,
+            _ => 0,
+        };
+        let [glassner, seamless] = both(w, h, &[0.0, -0.2, -0.4], label, |_, y| (y >= 60) as u8 * 100);
+        println!("glassner {glassner}\nseamless {seamless}");
+        // A step of over 0.2 rad between rows 59 and 60, many times those around it.
+        assert!(glassner.worst.1 == 59 && glassner.worst_step > 0.2, "the column's blend tears: {glassner}");
+        assert!(glassner.max > 12.0, "{glassner}");
+        assert!(seamless.p99 < 3.0 && seamless.max < 6.0 && seamless.worst_step < 0.05, "{seamless}");
+    }
+
+    #[test]
+    fn no_jump_at_a_medial_axis() {
+        // Two blobs of camera 1 and a strip of camera 2 below: between the blobs the column's
+        // nearest edge pixel of camera 1 jumps from one blob to the other; inside a ring of
+        // camera 1 likewise. The membrane of camera 1's edge rays does not.
+        let (w, h) = (160, 120);
+        let blobs = |x: u32, y: u32| {
+            let d = |cx: f32, cy: f32| (x as f32 - cx).hypot(y as f32 - cy);
+            if d(35.0, 50.0) < 25.0 || d(125.0, 50.0) < 20.0 { 1 } else { (y >= 105) as u32 * 2 }
+        };
+        let [glassner, seamless] = both(w, h, &[0.0, -0.8], blobs, |_, _| 0);
+        println!("blobs: glassner {glassner}\nseamless {seamless}");
+        assert!(glassner.max > 20.0, "the column's blend jumps: {glassner}");
+        assert!(seamless.p99 < 3.0 && seamless.max < 6.0, "{seamless}");
+        let ring = |x: u32, y: u32| {
+            let r = (x as f32 - 80.0).hypot(y as f32 - 60.0);
+            if (20.0..38.0).contains(&r) { 1 } else { (y >= 112) as u32 * 2 }
+        };
+        let [glassner, seamless] = both(w, h, &[0.0, -0.8], ring, |_, _| 0);
+        println!("ring: glassner {glassner}\nseamless {seamless}");
+        assert!(glassner.max > 20.0, "the column's blend jumps: {glassner}");
+        assert!(seamless.p99 < 3.0 && seamless.max < 6.0, "{seamless}");
+    }
 }

@@ -1,22 +1,7 @@
-//! End-to-end tests of the remapper (SPEC §5) on small collages.
+//! End-to-end tests of the remapper (docs/design.md §5) on small collages.
 
 use super::*;
-use crate::test_util::{Rng, scratch_dir};
-use glam::Vec3;
-
-/// A pinhole-like view: camera `id` at its own position, looking along its own axis.
-fn view(id: u32, w: u32, h: u32) -> RayFile {
-    let eye = Vec3::new(id as f32, -(id as f32) * 0.5, 2.0 * id as f32);
-    let forward = if id.is_multiple_of(2) { Vec3::Z } else { -Vec3::Z }; // even and odd cameras face each other
-    let rays = (0..w * h)
-        .map(|p| {
-            let (x, y) = ((p % w) as f32 + 0.5, (p / w) as f32 + 0.5);
-            let d = forward + Vec3::new(x / w as f32 - 0.5, 0.5 - y / h as f32, 0.0) * 0.8;
-            StoredRay::new(eye, d.normalize())
-        })
-        .collect();
-    RayFile::new(w, h, 5, id, rays).unwrap()
-}
+use crate::test_util::{Rng, view};
 
 fn views(ids: &[u32], w: u32, h: u32) -> BTreeMap<u32, RayFile> {
     ids.iter().map(|&id| (id, view(id, w, h))).collect()
@@ -95,7 +80,7 @@ fn camera_pixels_are_bit_exact_and_background_rays_valid() {
         }
         let regions = random_regions(&mut rng, w, h);
         let files = views(&ids, w, h);
-        let config = if case % 2 == 0 { RemapConfig::GLASSNER } else { RemapConfig::UNSMOOTHED };
+        let config = [RemapConfig::GLASSNER, RemapConfig::UNSMOOTHED, RemapConfig::SEAMLESS][case % 3];
         let out = remap(&collage, &regions, &files, 1, &config).unwrap();
         for (p, (&id, r)) in collage.ids.iter().zip(&out.rays.rays).enumerate() {
             if id != 0 {
@@ -178,15 +163,19 @@ fn same_result_for_any_thread_count() {
     let collage = random_collage(&mut rng, w, h, &ids);
     let regions = random_regions(&mut rng, w, h);
     let files = views(&ids, w, h);
-    let run = |threads| {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-        pool.install(|| remap(&collage, &regions, &files, 0, &RemapConfig::GLASSNER).unwrap())
-    };
-    let (one, three) = (run(1), run(3));
-    assert_eq!(
-        one.rays.rays.iter().map(bits).collect::<Vec<_>>(),
-        three.rays.rays.iter().map(bits).collect::<Vec<_>>()
-    );
+    for preset in [RemapConfig::GLASSNER, RemapConfig::SEAMLESS] {
+        let run = |threads| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| remap(&collage, &regions, &files, 0, &preset).unwrap())
+        };
+        let (one, three) = (run(1), run(3));
+        assert_eq!(
+            one.rays.rays.iter().map(bits).collect::<Vec<_>>(),
+            three.rays.rays.iter().map(bits).collect::<Vec<_>>(),
+            "{:?}",
+            preset.blend
+        );
+    }
 }
 
 #[test]
@@ -210,53 +199,6 @@ fn bad_inputs_are_errors() {
 }
 
 #[test]
-fn remaps_from_files_and_writes_debug_pictures() {
-    let dir = scratch_dir("remap-files");
-    let (w, h) = (20, 12);
-    let code = crate::TagCode::default();
-    for id in [1, 2] {
-        view(id, w, h)
-            .write(
-                &dir.join(crate::names::view_rays_name(7, id, crate::RayFormat::Binary)),
-                crate::RayFormat::Binary,
-            )
-            .unwrap();
-    }
-    let img = image::RgbImage::from_fn(w, h, |x, y| {
-        image::Rgb(match x {
-            0..4 => code.encode([10, 20, 30], 1).unwrap(),
-            15.. => code.encode([0, 0, 0], 2).unwrap(),
-            _ if y == 0 && x == 8 => [100, 100, 100], // a stray
-            _ => [0, 0, 0],
-        })
-    });
-    let collage_path = dir.join("cut.png");
-    crate::png::write_png(&collage_path, &image::DynamicImage::ImageRgb8(img)).unwrap();
-    let mut inputs = RemapInputs {
-        collage: &collage_path,
-        regions: None,
-        rays_dir: &dir,
-        frame: 7,
-        collage_options: Default::default(),
-    };
-    let err = remap_files(&inputs, &RemapConfig::GLASSNER).unwrap_err().to_string();
-    assert!(err.contains("cut.png") && err.contains("(8, 0)"), "{err}");
-    inputs.collage_options.strays = crate::StrayPolicy::Background;
-    let config = RemapConfig { debug: true, ..RemapConfig::GLASSNER };
-    let out = remap_files(&inputs, &config).unwrap();
-    assert!(matches!(&out.warnings[..], [RemapWarning::StraysIgnored(r)] if r.count == 1));
-    assert_eq!(bits(out.rays.get(0, 0)), bits(view(1, w, h).get(0, 0)));
-    let written = out.debug.unwrap().write_pngs(&dir, 7).unwrap();
-    assert_eq!(written.len(), 6);
-    assert!(dir.join("debug-frame0007-seams.png").is_file());
-    assert!(written.iter().all(|p| p.is_file()));
-    assert!(dir.join("debug-frame0007-camera02-weights.png").is_file());
-    let err = remap_files(&RemapInputs { frame: 8, ..inputs }, &config).unwrap_err().to_string();
-    assert!(err.contains("no ray files for frame 8"), "{err}");
-    std::fs::remove_dir_all(&dir).unwrap();
-}
-
-#[test]
 fn sixty_three_cameras_give_finite_unit_rays() {
     // One small blob per camera, scattered: every background pixel blends up to 63 cameras.
     let (w, h) = (64, 40);
@@ -268,12 +210,43 @@ fn sixty_three_cameras_give_finite_unit_rays() {
     }
     let collage = Collage::new(w, h, ids).unwrap();
     let files: BTreeMap<u32, RayFile> = (1..=63).map(|id| (id, view(id, w, h))).collect();
-    let config = RemapConfig { debug: true, ..RemapConfig::GLASSNER };
-    let out = remap(&collage, &Regions::single(w, h), &files, 0, &config).unwrap();
-    assert!(out.rays.rays.iter().all(|r| r.defect().is_none()));
-    let dbg = out.debug.unwrap();
-    for p in 0..(w * h) as usize {
-        let sum: f32 = dbg.weights.iter().map(|plane| plane[p]).sum();
-        assert!(sum.is_finite() && (sum - 1.0).abs() < 1e-5, "pixel {p}: {sum}");
+    // Even and odd cameras face each other: burp meets nearly opposite directions.
+    for preset in [RemapConfig::GLASSNER, RemapConfig::SEAMLESS] {
+        let config = RemapConfig { debug: true, ..preset };
+        let out = remap(&collage, &Regions::single(w, h), &files, 0, &config).unwrap();
+        assert!(out.rays.rays.iter().all(|r| r.defect().is_none()), "{:?}", preset.blend);
+        let dbg = out.debug.unwrap();
+        for p in 0..(w * h) as usize {
+            let sum: f32 = dbg.weights.iter().map(|plane| plane[p]).sum();
+            assert!(sum.is_finite() && (sum - 1.0).abs() < 1e-5, "{:?} pixel {p}: {sum}", preset.blend);
+        }
     }
 }
+
+/// FNV-1a over the bits of every ray: a fingerprint of a remap's exact output.
+fn fingerprint(rays: &[StoredRay]) -> u64 {
+    rays.iter()
+        .flat_map(bits)
+        .flat_map(u32::to_le_bytes)
+        .fold(0xcbf2_9ce4_8422_2325, |h, b| (h ^ b as u64).wrapping_mul(0x0100_0000_01b3))
+}
+
+#[test]
+fn the_columns_blend_is_unchanged_bit_for_bit() {
+    // The default blend's output on a fixed collage with regions, three cameras (two facing each
+    // other) and holes, recorded from the remapper before the seamless blend existed (commit
+    // c39ba49): the default must stay bit-identical (docs/design.md §5.8).
+    let mut rng = Rng::new(2028);
+    let (w, h) = (48, 32);
+    let ids = [1, 2, 4];
+    let collage = random_collage(&mut rng, w, h, &ids);
+    let regions = random_regions(&mut rng, w, h);
+    let files = views(&ids, w, h);
+    let out = remap(&collage, &regions, &files, 0, &RemapConfig::GLASSNER).unwrap();
+    assert_eq!(collage.ids.iter().filter(|&&id| id == 0).count(), EXPECTED_BACKGROUND);
+    assert_eq!(fingerprint(&out.rays.rays), EXPECTED_FINGERPRINT);
+}
+
+/// Recorded with the remapper at commit c39ba49 (see the test).
+const EXPECTED_BACKGROUND: usize = 936;
+const EXPECTED_FINGERPRINT: u64 = 0x5280_2cde_2506_79ae;

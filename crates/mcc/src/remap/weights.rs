@@ -1,6 +1,6 @@
-//! Step 3 of the remapper (SPEC §5.3): initial weights. A camera pixel of camera c gets α_c = 1 and
-//! every other α = 0. A background pixel P with participants S (the cameras with an edge pixel in
-//! P's region; all cameras if none has, with a warning naming the region) gets
+//! Step 3 of the remapper (docs/design.md §5.3): initial weights. A camera pixel of camera c gets
+//! α_c = 1 and every other α = 0. A background pixel P with participants S (the cameras with an
+//! edge pixel in P's region; all cameras if none has, with a warning naming the region) gets
 //!
 //! * |S| = 1: α = 1 for that camera;
 //! * otherwise, with d_i = |P − e_i(P)| and g_i = d_i / Σ_j d_j:
@@ -70,7 +70,7 @@ pub(crate) fn participants(
             if background[r] > 0 {
                 warnings.push(RemapWarning::RegionWithoutCameras {
                     region: r as u32,
-                    info: regions.info[r],
+                    info: regions.info[r].clone(),
                     background_pixels: background[r],
                 });
             }

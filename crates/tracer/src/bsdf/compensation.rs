@@ -1,7 +1,7 @@
 //! Multiple-scattering energy compensation for the GGX lobe (Turquin, "Practical multiple
 //! scattering compensation for microfacet models", 2019): single-scattering GGX loses the energy
 //! of light that bounces more than once between microfacets (up to 60 % for a rough white
-//! metal; NOTES.md measured 2.5 % darker Blender scenes, 5.5 % on metals). Scaling the lobe by
+//! metal; docs/design.md §3.10: Blender scenes 2.5 % darker, 5.5 % on metals). Scaling the lobe by
 //! 1 + F0·(1 − E(μo))/E(μo), with E the lobe's directional albedo for F = 1, restores it.
 //!
 //! E(μ, roughness) is tabulated once per process (32 × 32, computed in a few milliseconds by

@@ -14,8 +14,8 @@
 //!
 //! Surfaces are two-sided: the frame faces wo's side of the geometric normal, and only
 //! reflection on that side is non-zero (no light through an opaque surface via shading normals).
-//! Transmission (glass) is a separate delta interface, `dielectric.rs`, chosen by the
-//! integrator in proportion to the material's transmission factor.
+//! Transmission (glass) is a separate delta interface, [`dielectric::Dielectric`], chosen by
+//! the integrator in proportion to the material's transmission factor.
 
 pub mod compensation;
 pub mod dielectric;
@@ -128,6 +128,7 @@ impl Bsdf {
     /// The BSDF of `material` at a point with shading normal `ns` and geometric normal `ng`
     /// (both unit, any orientation), seen from world direction `wo`.
     #[inline]
+    #[cfg(any(test, feature = "test-support"))]
     pub fn new(material: &Material, ns: Vec3, ng: Vec3, wo: Vec3) -> Self {
         Self::with_frame(&BsdfParams::of(material), Frame::from_z(ns), ng, wo)
     }
@@ -231,7 +232,7 @@ impl Bsdf {
 
     /// f(wo, wi) and the density of sampling `wi` (world, unit) for this wo.
     // Always inlined, as `eval_local`: out of line, the BSDF went through memory for the call
-    // (Cornell box: 803 → 775 M instructions per 2 spp, ≈ 2.5 % faster; the café unchanged).
+    // (docs/performance.md, ledger: "`Bsdf::eval` always inlined").
     #[inline(always)]
     pub fn eval(&self, wi: Vec3) -> (Vec3, f32) {
         if wi.dot(self.ng) <= 0.0 {
@@ -245,8 +246,8 @@ impl Bsdf {
     }
 
     // Always inlined: on the Lambert-only path LLVM then sees p_specular = 0 from
-    // `Bsdf::lambert` and drops the specular code and the BSDF's trip through memory (Cornell
-    // box: 828 → 806 M instructions per 2 spp, ≈ 2 % faster; the café unchanged).
+    // `Bsdf::lambert` and drops the specular code and the BSDF's trip through memory
+    // (docs/performance.md, ledger: "`Bsdf::eval_local` always inlined").
     #[inline(always)]
     fn eval_local(&self, wi: Vec3) -> (Vec3, f32) {
         if self.p_specular == 0.0 {

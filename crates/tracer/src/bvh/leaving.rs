@@ -5,11 +5,11 @@
 //! ray from a point of a plane meets that plane nowhere else, so the ray cannot hit the
 //! triangle again at t > 0; nor, going to one side, any triangle wholly on the other side of
 //! the plane (the closed half-space: touching the plane is still behind). Those tests could
-//! only confirm a miss, or report a hit the offset exists to prevent. On the Cornell box the
-//! triangle left and its leaf-mates were 38 % of all triangle tests (the walls are not
-//! axis-aligned, so their boxes hold the origins spawned on them, and a wall's two triangles,
-//! or a block's faces, share a leaf); 32 % are now skipped (some walls fold towards the room
-//! by a rounding, and their mates are tested).
+//! only confirm a miss, or report a hit the offset exists to prevent. On the Cornell box they
+//! were a large share of all triangle tests: the walls are not axis-aligned, so their boxes hold
+//! the origins spawned on them, and a wall's two triangles, or a block's faces, share a leaf
+//! (docs/performance.md, ledger: "skip leaf-mates behind"). Some walls fold towards the room by
+//! a rounding, and their mates are still tested.
 //!
 //! Which side each leaf-mate lies on is decided when the tree is built, by Shewchuk's exact
 //! orientation predicate (the `robust` crate). Which side a ray goes is decided per ray from

@@ -3,7 +3,8 @@
 //! (any-hit, early exit) queries. obvhs types stay behind this module.
 //!
 //! obvhs builds the tree; traversal is ours, on the same tree stored uncompressed
-//! (`node.rs`), which is how its traps (NOTES.md) are closed and what makes a query cheap:
+//! (`node.rs`), which is how its traps (docs/design.md §3.2) are closed and what makes a query
+//! cheap:
 //! - child boxes are exact f32 boxes of their triangles, tested with no 1e-4 entry cut-off,
 //!   so nearby geometry in small scenes is never culled; slab order and reciprocals come from
 //!   one sanitised direction (obvhs's test misses everything for a −0.0 component and clamps
@@ -105,7 +106,7 @@ const STACK: usize = 256;
 /// Above this magnitude (2^60 ≈ 1.2e18) the boxes are rescaled before obvhs builds on them.
 /// Its builder works in f32 on surface areas and costs, which overflow for boxes past ~1e19;
 /// the corrupted tree then made it index out of bounds (a scene 1e21 across panicked in
-/// `tests/stress.rs`, `denormal_and_huge_coordinates_give_no_nan`).
+/// `tests/stress/`, `denormal_and_huge_coordinates_give_no_nan`).
 const BUILD_RANGE: f32 = (1u64 << 60) as f32;
 
 /// Builds the CWBVH over `aabbs`. Scenes beyond [`BUILD_RANGE`] are built on their boxes scaled
@@ -247,7 +248,8 @@ impl Bvh {
         let q = QueryRay::new(ray);
         // The best hit so far in scalars, not an `Option<(u32, TriangleHit)>`: LLVM copied that
         // one's barycentrics with an 8-byte load across two 4-byte stores, which the CPU
-        // cannot forward, so every accepted hit stalled (2 % of a Cornell render's time).
+        // cannot forward, so every accepted hit stalled
+        // (docs/performance.md, ledger: "closest hit in scalars").
         let mut best_slot = u32::MAX;
         let (mut t, mut b0, mut b1, mut b2) = (0.0, 0.0, 0.0, 0.0);
         let mut on_hit = |slot: u32, h: TriangleHit| {
@@ -339,7 +341,8 @@ impl Bvh {
 
     /// Visits every node whose box the ray enters within (0, t_max), nearest first with
     /// `NEAREST_FIRST` (closest-hit queries, where a near hit culls the far boxes) and in slot
-    /// order without (occlusion, where any hit ends the walk: ≈ 1 % faster on the Cornell box),
+    /// order without (occlusion, where any hit ends the walk, so sorting buys nothing:
+    /// docs/performance.md, ledger: "unsorted occlusion walk"),
     /// tests the triangles of their leaves (but those the ray is `leaving` skips) and hands
     /// each hit to `on_hit(slot, hit)`, whose answer may shorten the ray or end the walk.
     /// Returns how the walk ended and the final t_max.

@@ -1,10 +1,10 @@
 //! The BVH's nodes as traversal reads them. obvhs builds a compressed wide BVH8 (Ylitie, Karras
 //! & Laine, "Efficient Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs", HPG 2017);
 //! its 8-bit quantised child boxes save a GPU memory bandwidth, but cost a CPU ray a
-//! dequantisation of 48 planes at every node (with obvhs's traversal bookkeeping, a closest-hit
-//! query on the Cornell box took ~1,200 instructions for 2.1 node and 3.7 triangle tests). We
-//! keep obvhs's tree and store each node's eight children as exact f32 boxes, structure of
-//! arrays, tested four children at a time with SSE2 (x86-64 baseline).
+//! dequantisation of 48 planes at every node, which with obvhs's traversal bookkeeping was most
+//! of a query's cost (docs/performance.md, ledger: "own uncompressed traversal"). We keep
+//! obvhs's tree and store each node's eight children as exact f32 boxes, structure of arrays,
+//! tested four children at a time with SSE2 (x86-64 baseline).
 
 use crate::triangle::{gamma, safe_reciprocal};
 use glam::Vec3;

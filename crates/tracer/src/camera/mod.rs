@@ -1,6 +1,6 @@
-//! Cameras: map a film position and a lens sample to a world-space eye ray (SPEC §3, "Camera and
-//! lens shaders"). Film positions are continuous pixel coordinates, x right, y down, origin at the
-//! top-left corner; pixel (i, j) covers [i, i+1) × [j, j+1) and its centre is (i + ½, j + ½).
+//! Cameras: map a film position and a lens sample to a world-space eye ray (docs/design.md §3.8).
+//! Film positions are continuous pixel coordinates, x right, y down, origin at the top-left corner;
+//! pixel (i, j) covers [i, i+1) × [j, j+1) and its centre is (i + ½, j + ½).
 //!
 //! Every model uses the glTF camera convention in camera space: +X right, +Y up, looking down −Z.
 //! The rays leave the camera; lens shaders (`crate::lens`) may rewrite them afterwards.

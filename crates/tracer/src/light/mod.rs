@@ -1,4 +1,4 @@
-//! Light sampling for next-event estimation (SPEC §3, "Integrator"): one light is chosen in
+//! Light sampling for next-event estimation (docs/design.md §3.3): one light is chosen in
 //! proportion to its emitted power, then a point (or direction) on it. Emissive triangles,
 //! punctual lights (point, spot, directional) and an environment image share one distribution;
 //! the density of choosing an emissive triangle or an environment direction is also what MIS

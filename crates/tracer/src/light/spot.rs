@@ -1,6 +1,6 @@
 //! Spot lights (`KHR_lights_punctual` spot): a point light whose intensity fades from the inner
 //! to the outer cone, by Blender Cycles' falloff (what Blender-exported scenes were lit with) or
-//! the glTF specification's recommended one (NOTES.md, "glTF as Blender writes it").
+//! the glTF specification's recommended one (docs/design.md §3.10).
 
 use crate::scene::SpotFalloff;
 use glam::Vec3;
@@ -91,7 +91,8 @@ fn perpendicular(d: Vec3) -> Vec3 {
 mod tests {
     use super::*;
 
-    /// Cycles' falloff at known angles of a 17°/20° cone (NOTES.md's example), and glTF's.
+    /// Cycles' falloff at known angles of a 17°/20° cone (docs/design.md §3.10's example), and
+    /// glTF's.
     #[test]
     fn falloff_at_known_angles() {
         let (inner, outer) = (17f32.to_radians(), 20f32.to_radians());

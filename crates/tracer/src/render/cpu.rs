@@ -5,10 +5,11 @@
 //! fast-math flags, and each level's operations are IEEE's (a test compares all three).
 //!
 //! The loop's code is the same at every level; what a level changes is the instructions LLVM
-//! may pick: v3 took the Cornell box from 530 to 463 M instructions per spp (1.25 → 1.16 s),
-//! v4 (32 vector registers, so fewer spills) ≈ 2 % more (`docs/performance.md`).
+//! may pick: v3's AVX2 and BMI, v4's 32 vector registers (so fewer spills). Each level paid for
+//! itself (docs/performance.md, ledger: "x86-64-v3 tile loop", "x86-64-v4 tile loop").
 
 use super::{PixelAccumulator, TileJob};
+#[cfg(test)]
 use std::sync::atomic::{AtomicU8, Ordering};
 
 /// An instruction-set level the tile loop is compiled for.
@@ -22,16 +23,21 @@ pub(super) enum Level {
     V4 = 2,
 }
 
-/// The highest level renders may use (tests lower it to compare the levels).
+/// The highest level renders may use; unit tests lower it to compare the levels (the crate's
+/// own tests only: nothing else can reach it, so it exists only in their build).
+#[cfg(test)]
 pub(super) static CAP: AtomicU8 = AtomicU8::new(Level::V4 as u8);
 
-/// The best level this CPU runs, at most [`CAP`].
+/// The best level this CPU runs (in unit tests, at most [`CAP`]).
 pub(super) fn level() -> Level {
+    #[cfg(test)]
     let cap = match CAP.load(Ordering::Relaxed) {
         0 => Level::Baseline,
         1 => Level::V3,
         _ => Level::V4,
     };
+    #[cfg(not(test))]
+    let cap = Level::V4;
     detected().min(cap)
 }
 

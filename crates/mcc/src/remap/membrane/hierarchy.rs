@@ -7,7 +7,7 @@
 //! of piecewise-constant aggregation, so every level is again a 5-point graph Laplacian with
 //! ground. That operator is about twice as stiff as a rediscretised one (Braess 1995) and would
 //! halve every correction, so links are scaled by ½ and grounds by ¾ (the best of the scales
-//! measured; docs/seamless-blend.md). Corrections prolong bilinearly (cell-centred weights 9/16,
+//! measured; docs/design.md §5.8). Corrections prolong bilinearly (cell-centred weights 9/16,
 //! 3/16, 3/16, 1/16) and residuals restrict by the exact transpose; the smoother runs red–black
 //! before the coarse correction and black–red after. So the V-cycle is a symmetric positive
 //! definite operator, as conjugate gradients requires of a preconditioner.
@@ -178,7 +178,10 @@ impl Coarse {
         };
         if cw * ch >= PARALLEL_CELLS {
             let rows = self.east.par_chunks_mut(cw).zip(self.south.par_chunks_mut(cw));
-            rows.zip(self.ground.par_chunks_mut(cw)).zip(self.diag.par_chunks_mut(cw)).enumerate().for_each(cells);
+            rows.zip(self.ground.par_chunks_mut(cw))
+                .zip(self.diag.par_chunks_mut(cw))
+                .enumerate()
+                .for_each(cells);
         } else {
             let rows = self.east.chunks_mut(cw).zip(self.south.chunks_mut(cw));
             rows.zip(self.ground.chunks_mut(cw)).zip(self.diag.chunks_mut(cw)).enumerate().for_each(cells);
@@ -316,9 +319,14 @@ pub(super) fn full_multigrid<const K: usize>(levels: &[Coarse], work: &mut [Work
         let here = &mut here[l];
         let level = &levels[l];
         here.solution.iter_mut().for_each(|v| *v = [0.0; K]);
-        interpolate(&coarser[0].solution, &levels[l + 1], &mut here.solution, level.width, level.height, |p| {
-            level.diag[p] > 0.0
-        });
+        interpolate(
+            &coarser[0].solution,
+            &levels[l + 1],
+            &mut here.solution,
+            level.width,
+            level.height,
+            |p| level.diag[p] > 0.0,
+        );
         cycle(&levels[l..], here, coarser);
     }
 }
@@ -370,7 +378,13 @@ fn weight(x: usize, c: usize, coarse_len: usize) -> f32 {
 
 /// The coarse rhs: the transpose of [`prolong_add`] applied to the residual `r`. Separable: each
 /// fine row is folded to coarse width, then the (up to four) rows of a coarse row are weighed.
-pub(super) fn restrict<const K: usize>(r: &[[f32; K]], w: usize, h: usize, coarse: &Coarse, out: &mut [[f32; K]]) {
+pub(super) fn restrict<const K: usize>(
+    r: &[[f32; K]],
+    w: usize,
+    h: usize,
+    coarse: &Coarse,
+    out: &mut [[f32; K]],
+) {
     let (cw, ch) = (coarse.width, coarse.height);
     let fold = |row: &[[f32; K]], folded: &mut Vec<[f32; K]>| {
         folded.clear();
@@ -472,8 +486,12 @@ pub(super) fn interpolate<const K: usize>(
             let ox = if x & 1 == 1 { (cx + 1).min(cw - 1) } else { cx.saturating_sub(1) };
             let mut s = [0.0f32; K];
             let mut total = 0.0f32;
-            for (c, wt) in [(cy * cw + cx, 0.5625), (cy * cw + ox, 0.1875), (oy * cw + cx, 0.1875), (oy * cw + ox, 0.0625)]
-            {
+            for (c, wt) in [
+                (cy * cw + cx, 0.5625),
+                (cy * cw + ox, 0.1875),
+                (oy * cw + cx, 0.1875),
+                (oy * cw + ox, 0.0625),
+            ] {
                 if coarse.diag[c] > 0.0 {
                     total += wt;
                     for k in 0..K {

@@ -1,4 +1,4 @@
-//! The membrane: harmonic interpolation on the pixel grid (docs/seamless-blend.md). Values are
+//! The membrane: harmonic interpolation on the pixel grid (docs/design.md §5.8). Values are
 //! given at *fixed* pixels; every other pixel becomes the average of its 4-neighbours inside the
 //! image: Laplace's equation with Dirichlet conditions at the fixed pixels and Neumann conditions
 //! at the image border, the interpolant of seamless cloning (Pérez, Gangnet & Blake 2003, "Poisson
@@ -129,7 +129,9 @@ impl<const K: usize> Membrane<K> {
             self.precondition();
             let rz_next = dots(&self.r, &self.z, w);
             let beta: [f32; K] =
-                std::array::from_fn(|k| if !restart && rz[k] > 0.0 { (rz_next[k] / rz[k]) as f32 } else { 0.0 });
+                std::array::from_fn(
+                    |k| if !restart && rz[k] > 0.0 { (rz_next[k] / rz[k]) as f32 } else { 0.0 },
+                );
             restart = false;
             rz = rz_next;
             self.p.par_iter_mut().zip(self.z.par_iter()).for_each(|(pp, zz)| {
@@ -138,7 +140,8 @@ impl<const K: usize> Membrane<K> {
                 }
             });
             let pq = self.apply_and_dot();
-            let alpha: [f32; K] = std::array::from_fn(|k| if pq[k] > 0.0 { (rz[k] / pq[k]) as f32 } else { 0.0 });
+            let alpha: [f32; K] =
+                std::array::from_fn(|k| if pq[k] > 0.0 { (rz[k] / pq[k]) as f32 } else { 0.0 });
             relative = self.step(values, alpha, &reference);
             iterations += 1;
         }
@@ -186,9 +189,9 @@ impl<const K: usize> Membrane<K> {
                 (sum, count)
             })
             .collect();
-        let (sum, count) = rows.iter().fold(([0.0f64; K], 0), |(s, c), (rs, rc)| {
-            (std::array::from_fn(|k| s[k] + rs[k]), c + rc)
-        });
+        let (sum, count) = rows
+            .iter()
+            .fold(([0.0f64; K], 0), |(s, c), (rs, rc)| (std::array::from_fn(|k| s[k] + rs[k]), c + rc));
         (sum.map(|s| (s / count.max(1) as f64) as f32), count)
     }
 
@@ -207,10 +210,15 @@ impl<const K: usize> Membrane<K> {
                     if fixed[p] {
                         continue;
                     }
-                    let ground = [x > 0 && fixed[p - 1], x + 1 < w && fixed[p + 1], y > 0 && fixed[p - w], y + 1 < h && fixed[p + w]]
-                        .iter()
-                        .filter(|&&f| f)
-                        .count() as f32;
+                    let ground = [
+                        x > 0 && fixed[p - 1],
+                        x + 1 < w && fixed[p + 1],
+                        y > 0 && fixed[p - w],
+                        y + 1 < h && fixed[p + w],
+                    ]
+                    .iter()
+                    .filter(|&&f| f)
+                    .count() as f32;
                     for k in 0..K {
                         let r = (b[k] - ground * mean[k]) as f64;
                         s[k] += r * r;
@@ -423,7 +431,9 @@ fn sum_rows<const K: usize>(rows: &[[f64; K]]) -> [f64; K] {
 
 /// The largest over channels of √(squares) / reference (0 where the reference is 0).
 fn relative<const K: usize>(squares: &[f64; K], reference: &[f64; K]) -> f64 {
-    (0..K).map(|k| if reference[k] > 0.0 { squares[k].sqrt() / reference[k] } else { 0.0 }).fold(0.0, f64::max)
+    (0..K)
+        .map(|k| if reference[k] > 0.0 { squares[k].sqrt() / reference[k] } else { 0.0 })
+        .fold(0.0, f64::max)
 }
 
 /// How many 4-neighbours (x, y) has inside a `w × h` grid.

@@ -212,8 +212,8 @@ pub(super) fn convert(
         specular_color: specular.as_ref().map_or(Vec3::ONE, |s| Vec3::from(s.specular_color_factor()))
             * f0_scale,
         emission: Vec3::from(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0),
-        // A one-sided emitter must stay one-sided (NOTES.md: a two-sided Cornell light is too
-        // bright), so emission follows `doubleSided`.
+        // A one-sided emitter must stay one-sided (docs/design.md §3.9: a two-sided Cornell light
+        // is too bright), so emission follows `doubleSided`.
         emission_two_sided: m.double_sided(),
         alpha,
         alpha_mode,

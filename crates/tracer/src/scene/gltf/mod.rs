@@ -3,7 +3,7 @@
 //! materials with their textures (`images`), alpha modes, `KHR_texture_transform`,
 //! `KHR_materials_emissive_strength`, `KHR_materials_specular`, `KHR_materials_transmission`,
 //! `KHR_materials_ior` (`material`), `KHR_lights_punctual` point, spot and directional lights,
-//! and node animations (`animation`: translation, rotation and scale channels).
+//! and node animations (`channels`: translation, rotation and scale channels).
 //!
 //! The hierarchy is read into a [`Rig`] (primitives in local space, each mesh once however many
 //! nodes instance it) and flattened by [`Rig::flatten`] at t = 0; an animated file keeps the rig
@@ -12,7 +12,7 @@
 //! Every malformed input is a [`TracerError`] naming the file, never a panic; an image that cannot
 //! be used is a warning (the material slot is left empty).
 //!
-//! Light units (NOTES.md, "glTF as Blender writes it"): point and spot intensities are candela,
+//! Light units (docs/design.md §3.9, §3.10): point and spot intensities are candela,
 //! converted to radiant intensity as W/sr = cd / 683; a directional light's lux become irradiance
 //! as W/m² = lux / 683, the same photometric conversion (an ideal 555 nm source). Blender's
 //! exporter (default lighting mode) writes exactly the inverse: W/(4π) × 683 cd for point and
@@ -25,19 +25,15 @@
 //! recommended falloff ([`SpotFalloff`](super::SpotFalloff)).
 
 mod accessor;
-mod animation;
-#[cfg(test)]
-mod animation_tests;
 mod buffers;
+mod channels;
 mod material;
 mod precheck;
 #[cfg(test)]
 pub(super) mod tests;
-#[cfg(test)]
-mod texture_tests;
 mod textures;
 
-use super::animation::{LightKind, Pose, Primitive, Rig, RigCamera, RigLight, RigNode};
+use super::rig::{LightKind, Pose, Primitive, Rig, RigCamera, RigLight, RigNode};
 use super::{Scene, SceneAnimation, SpotFalloff};
 use crate::camera::Projection;
 use crate::error::{Result, TracerError};
@@ -90,7 +86,7 @@ pub(super) fn load_with(path: &Path, keep_rig: bool) -> Result<Scene> {
     // The gltf crate's validator refuses required extensions it does not parse itself (e.g.
     // KHR_materials_specular); they were checked above, so it need not see the list.
     root.extensions_required.clear();
-    animation::check_indices(&root).map_err(err)?;
+    channels::check_indices(&root).map_err(err)?;
     precheck::check(&root).map_err(err)?;
     let unbounded = fill_position_bounds(&mut root);
     let doc = gltf::Document::from_json(root).map_err(|e| match e {
@@ -133,7 +129,7 @@ pub(super) fn load_with(path: &Path, keep_rig: bool) -> Result<Scene> {
     };
     loader.traverse(&doc)?;
     let Loader { mut scene, rig, rig_node_of, .. } = loader;
-    let (channels, warnings) = animation::read(&doc, &buffers, &rig, &rig_node_of).map_err(err)?;
+    let (channels, warnings) = channels::read(&doc, &buffers, &rig, &rig_node_of).map_err(err)?;
     scene.warnings.extend(warnings.into_iter().map(|w| format!("{}: {w}", path.display())));
     let animated = !channels.is_empty();
     // Static or not, the scene is flattened by the same code: at t = 0, where a static scene's

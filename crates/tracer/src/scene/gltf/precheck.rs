@@ -1,5 +1,5 @@
-//! Checks of the raw glTF JSON before the gltf crate's validator sees it (SPEC §3, §8: every
-//! malformed input is an error naming the file and the problem, never a panic).
+//! Checks of the raw glTF JSON before the gltf crate's validator sees it (docs/design.md §3.1, §8:
+//! every malformed input is an error naming the file and the problem, never a panic).
 //!
 //! Why before: the validator (gltf-json 1.4) indexes `accessors[POSITION]` unchecked and panics
 //! on a dangling POSITION index; it reports a camera without its projection object only as

@@ -1,0 +1,71 @@
+//! The demo's main job on the bundled café (docs/design.md §8's workflow end to end): render
+//! the two facing views with the lens writer and tagger, compose the bundled collage mask, remap
+//! it (with its region image), rerender, and write every picture to one folder.
+
+use super::cafe::{DemoCamera, DemoSettings, DemoView, cafe_dir, cafe_scene, render_tagged_views};
+use crate::collage::default_labels;
+use crate::rerender::render_through;
+use crate::setup::collage::remap;
+use anyhow::Context;
+use mcc::job::{CollageFiles, RemapJob, Rerender};
+use std::path::PathBuf;
+use std::time::Instant;
+use tracer::job::SceneSetup;
+
+pub(crate) fn run(s: &DemoSettings) -> anyhow::Result<()> {
+    let start = Instant::now();
+    let (scene_path, cafe) = (cafe_scene(), cafe_dir());
+    let out = &s.out;
+    let views_dir = out.join("views");
+    std::fs::create_dir_all(&views_dir).with_context(|| format!("creating {}", views_dir.display()))?;
+    let q = s.quality();
+    let mut pictures: Vec<(String, PathBuf)> = Vec::new();
+
+    // 1. The two source views, facing each other across the table: EXR, tagged PNG, rays.
+    let views = [
+        DemoView { id: 1, camera: DemoCamera::Scene("left") },
+        DemoView { id: 2, camera: DemoCamera::Scene("right") },
+    ];
+    pictures.extend(render_tagged_views(&views, 0, &views_dir, &q)?);
+
+    // 2. The collage, cut from the tagged views by the bundled label mask (red = camera 1,
+    //    green = camera 2, black = the background the remapper blends).
+    let collage = out.join("collage.png");
+    let map = mcc::compose::LabelMap::Colours(default_labels());
+    mcc::compose::compose_files(&cafe.join("collage-mask.png"), &map, &views_dir, 0, &collage)?;
+    pictures.push(("collage".into(), collage.clone()));
+    let region_image = cafe.join("collage-mask-regions.png");
+    let regions = out.join("collage-regions.png");
+    std::fs::copy(&region_image, &regions).with_context(|| format!("copying {}", region_image.display()))?;
+    pictures.push(("regions".into(), regions.clone()));
+
+    // 3. Remap (with debug pictures) and save the rays.
+    let debug_dir = out.join("debug");
+    let input = CollageFiles { regions: Some(regions), ..CollageFiles::new(&collage, &views_dir, 0) };
+    let remapped = remap(&RemapJob { debug_dir: Some(debug_dir.clone()), ..RemapJob::new(input) }, s.quiet)?;
+    let rays_path = out.join(mcc::names::rerender_name(0, mcc::RayFormat::Binary));
+    remapped.write_rays(&rays_path, mcc::RayFormat::Binary)?;
+    pictures.push(("debug maps (edges, weights, dominant camera)".into(), debug_dir));
+
+    // 4. Rerender through the collage's rays.
+    let final_exr = out.join("final.exr");
+    let job = Rerender {
+        resolution: Some(s.res.0),
+        quality: q.quality(),
+        ..Rerender::new(remapped.output.rays, 0)
+    };
+    let final_png = render_through(&scene_path, SceneSetup::DEFAULT_FPS, &job, &q, &final_exr)?;
+    pictures.push(("final rerender".into(), final_png));
+
+    println!(
+        "\nmcctrace demo: done in {:.1} s; everything is in {}",
+        start.elapsed().as_secs_f64(),
+        out.display()
+    );
+    for (what, path) in &pictures {
+        println!("  {what:<46} {}", path.display());
+    }
+    println!("  {:<46} {}", "remapped rays", rays_path.display());
+    println!("  {:<46} {}/*.exr, {}", "linear HDR renders", views_dir.display(), final_exr.display());
+    Ok(())
+}

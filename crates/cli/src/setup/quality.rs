@@ -1,0 +1,144 @@
+//! Sampling and quality arguments (docs/design.md §3.3, §3.5), shared by every command that
+//! renders, and the library settings they make: a [`Quality`] and a [`SceneSetup`].
+
+use crate::args::{Resolution, Vec3Arg};
+use anyhow::bail;
+use clap::{Args, ValueEnum};
+use glam::UVec2;
+use std::path::PathBuf;
+use tracer::job::{EnvironmentImage, Quality, SceneSetup};
+use tracer::scene::SpotFalloff;
+
+/// Sampling and quality settings shared by every command that renders.
+#[derive(Args, Debug, Clone)]
+pub struct QualityArgs {
+    /// Samples per pixel (1 … 65536; with --split N, 1 … 65536 / N).
+    #[arg(long, default_value_t = Quality::DEFAULT.spp)]
+    pub spp: u32,
+    /// Output resolution (default 640x360; for `rerender` and `animate`, the ray file's).
+    #[arg(long, value_name = "WxH")]
+    pub res: Option<Resolution>,
+    /// Seed of the sample sequence: the same seed gives the same image bit for bit.
+    #[arg(long, default_value_t = Quality::DEFAULT.seed)]
+    pub seed: u32,
+    /// Render threads (default: all cores). The image does not depend on it.
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Maximum scattering vertices per path (the Cornell reference uses 4).
+    #[arg(long, default_value_t = Quality::DEFAULT.max_depth)]
+    pub max_depth: u32,
+    /// Russian roulette starts after this many scattering vertices.
+    #[arg(long, default_value_t = Quality::DEFAULT.rr_depth)]
+    pub rr_depth: u32,
+    /// Paths continued from each camera ray's first hit (first-vertex splitting): each of the
+    /// --spp samples traces N indirect paths. Pays where indirect light makes the noise (the
+    /// Cornell box: 2 reaches the same error ≈ 1.1-1.16x sooner); costs where the noise is in
+    /// what the camera sees (textures, depth of field, small lights: the café ≈ 1.2x slower).
+    #[arg(long, default_value_t = Quality::DEFAULT.split, value_name = "N",
+          value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub split: u32,
+    /// Environment radiance (constant colour) as r,g,b, replacing the scene's.
+    #[arg(long, value_name = "R,G,B")]
+    pub env: Option<Vec3Arg>,
+    /// An equirectangular environment image (EXR; PNG/JPEG read as sRGB), importance-sampled.
+    #[arg(long, value_name = "FILE")]
+    pub env_map: Option<PathBuf>,
+    /// Rotation of the environment image about +Y, in degrees.
+    #[arg(long, default_value_t = 0.0, value_name = "DEGREES")]
+    pub env_rotation: f32,
+    /// Radiance multiplier of the environment image.
+    #[arg(long, default_value_t = 1.0)]
+    pub env_strength: f32,
+    /// Spot-light falloff, overriding the loader's choice (Blender's for Blender-made files).
+    #[arg(long, value_enum)]
+    pub spot_falloff: Option<FalloffArg>,
+    /// Also write albedo, normal, depth, per-sample variance and sample-count layers into the
+    /// EXR.
+    #[arg(long)]
+    pub aovs: bool,
+    /// Adaptive sampling: --spp becomes the average per pixel; a quarter of it goes to every
+    /// pixel, the rest where the noise relative to the pixel's brightness is highest.
+    #[arg(long)]
+    pub adaptive: bool,
+    /// No progress bar or summary.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// Spot-light falloff shapes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum FalloffArg {
+    /// Blender Cycles' smoothstep falloff.
+    Blender,
+    /// The glTF specification's recommended falloff.
+    Gltf,
+}
+
+impl QualityArgs {
+    /// Default settings at `spp` samples per pixel and resolution `res` (the demo's renders).
+    pub fn with(spp: u32, res: Resolution, threads: Option<usize>, quiet: bool) -> Self {
+        Self {
+            spp,
+            res: Some(res),
+            seed: Quality::DEFAULT.seed,
+            threads,
+            max_depth: Quality::DEFAULT.max_depth,
+            rr_depth: Quality::DEFAULT.rr_depth,
+            split: Quality::DEFAULT.split,
+            env: None,
+            env_map: None,
+            env_rotation: 0.0,
+            env_strength: 1.0,
+            spot_falloff: None,
+            aovs: false,
+            adaptive: false,
+            quiet,
+        }
+    }
+
+    /// The resolution asked for, or the default 640x360.
+    pub fn resolution(&self) -> UVec2 {
+        self.res.map_or(UVec2::new(640, 360), |r| r.0)
+    }
+
+    /// The library's quality settings; says (unless quiet) when --adaptive cannot split.
+    pub fn quality(&self) -> Quality {
+        if self.adaptive && tracer::adaptive::pilot_spp(self.spp).is_none() && !self.quiet {
+            eprintln!(
+                "note: --adaptive needs --spp {} or more to split; {} samples go to every pixel",
+                tracer::adaptive::PILOT_SHARE,
+                self.spp
+            );
+        }
+        Quality {
+            spp: self.spp,
+            seed: self.seed,
+            max_depth: self.max_depth,
+            rr_depth: self.rr_depth,
+            split: self.split,
+            aovs: self.aovs,
+            adaptive: self.adaptive,
+        }
+    }
+
+    /// How the scene is loaded and posed: the environment and falloff overrides, and `fps`
+    /// (--fps, refused unless a positive number).
+    pub fn scene_setup(&self, fps: f32) -> anyhow::Result<SceneSetup> {
+        if !(fps.is_finite() && fps > 0.0) {
+            bail!("--fps {fps}: the frame rate must be a positive number of frames per second");
+        }
+        Ok(SceneSetup {
+            fps,
+            environment: self.env.map(|v| v.0),
+            environment_image: self.env_map.as_ref().map(|path| EnvironmentImage {
+                path: path.clone(),
+                rotation: self.env_rotation.to_radians(),
+                strength: self.env_strength,
+            }),
+            spot_falloff: self.spot_falloff.map(|f| match f {
+                FalloffArg::Blender => SpotFalloff::Blender,
+                FalloffArg::Gltf => SpotFalloff::Gltf,
+            }),
+        })
+    }
+}

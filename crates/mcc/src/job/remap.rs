@@ -1,0 +1,199 @@
+//! A collage remapped from files (docs/design.md §4.5, §4.6, §5): the collage read against the
+//! frame's view ray files, its regions found, the rays loaded one file at a time, the remapper
+//! run, and its debug pictures written.
+
+use crate::collage::CollageOptions;
+use crate::error::{MccError, Result};
+use crate::layers::{CameraNames, open_collage};
+use crate::names::{find_view_rays, view_rays_name};
+use crate::ray_file::RayFormat;
+use crate::remap::{RemapConfig, RemapOutput, RemapWarning, SourceRays, remap_sources};
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+
+/// A collage on disk and what it was cut from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CollageFiles {
+    /// The collage: a tagged image, or a layered file (OpenRaster, PSD: `crate::layers`).
+    pub collage: PathBuf,
+    /// The region image (an image or a layered file); `None` takes the collage's `regions`
+    /// group, else `<collage-stem>-regions.png` beside the collage.
+    pub regions: Option<PathBuf>,
+    /// The directory holding the views' ray files (`frameFFFFcameraCC.{mcr|txt}`).
+    pub rays_dir: PathBuf,
+    /// The frame whose views to use.
+    pub frame: u32,
+    /// How to decode the collage.
+    pub options: CollageOptions,
+}
+
+impl CollageFiles {
+    /// The collage at `collage`, cut from frame `frame`'s views in `rays_dir`, with default
+    /// decoding and its region image (if any) beside it.
+    pub fn new(collage: impl Into<PathBuf>, rays_dir: impl Into<PathBuf>, frame: u32) -> Self {
+        Self {
+            collage: collage.into(),
+            regions: None,
+            rays_dir: rays_dir.into(),
+            frame,
+            options: CollageOptions::default(),
+        }
+    }
+
+    /// Remaps the collage: finds the frame's ray files, reads the collage (by its content: a
+    /// tagged image or a layered file, [`open_collage`]) against them, finds the regions, loads
+    /// the rays one file at a time and remaps. Stray pixels treated as background, and notes
+    /// about a layered file's layers, come back as warnings; every error names its file.
+    pub fn remap(&self, config: &RemapConfig) -> Result<RemapOutput> {
+        config.validate()?;
+        let paths = find_view_rays(&self.rays_dir, self.frame)?;
+        if paths.is_empty() {
+            return Err(MccError::Directory {
+                path: self.rays_dir.clone(),
+                message: format!(
+                    "no ray files for frame {} (looked for {} and the like)",
+                    self.frame,
+                    view_rays_name(self.frame, 1, RayFormat::Binary)
+                ),
+            });
+        }
+        let known: BTreeSet<u32> = paths.keys().copied().collect();
+        // A tagged image, or a layered file whose layers name their cameras (by id, or by the
+        // names the views' EXR headers record).
+        let names = CameraNames::from_views(known, &self.rays_dir, self.frame);
+        let opened = open_collage(&self.collage, self.regions.as_deref(), &names, self.options)?;
+        if opened.collage.cameras().is_empty() {
+            return Err(MccError::EmptyCollage { path: self.collage.clone() });
+        }
+        let sources = SourceRays::load(&opened.collage, &paths)?;
+        let mut output = remap_sources(&opened.collage, &opened.regions, &sources, self.frame, config)?;
+        let mut first = Vec::new();
+        if !opened.strays.is_empty() {
+            first.push(RemapWarning::StraysIgnored(opened.strays));
+        }
+        first.extend(opened.notes.into_iter().map(RemapWarning::Layers));
+        output.warnings.splice(0..0, first);
+        Ok(output)
+    }
+}
+
+/// A collage remapped from its files, with the debug pictures written to a folder.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RemapJob {
+    /// The collage and its views.
+    pub input: CollageFiles,
+    /// The remapper's settings (Glassner's by default).
+    pub config: RemapConfig,
+    /// Where the debug pictures go (created if missing); `None`: no pictures.
+    pub debug_dir: Option<PathBuf>,
+}
+
+/// What a [`RemapJob`] made.
+#[derive(Clone, Debug)]
+pub struct Remapped {
+    /// The rays, warnings and (with debug pictures) the debug data.
+    pub output: RemapOutput,
+    /// The debug pictures written, if any.
+    pub debug_pictures: Vec<PathBuf>,
+}
+
+impl RemapJob {
+    /// Remaps `input` with Glassner's settings and no debug pictures.
+    pub fn new(input: CollageFiles) -> Self {
+        Self { input, config: RemapConfig::GLASSNER, debug_dir: None }
+    }
+
+    /// Remaps, then writes the debug pictures (`debug-frameFFFF-…png`) if asked.
+    pub fn run(&self) -> Result<Remapped> {
+        let config = RemapConfig { debug: self.config.debug || self.debug_dir.is_some(), ..self.config };
+        let output = self.input.remap(&config)?;
+        let mut debug_pictures = Vec::new();
+        if let (Some(dir), Some(debug)) = (&self.debug_dir, &output.debug) {
+            std::fs::create_dir_all(dir).map_err(|e| MccError::io(dir, e))?;
+            debug_pictures = debug.write_pngs(dir, self.input.frame)?;
+        }
+        Ok(Remapped { output, debug_pictures })
+    }
+}
+
+impl Remapped {
+    /// Writes the remapped rays to `path` in `format` (its folder created if missing),
+    /// atomically.
+    pub fn write_rays(&self, path: &Path, format: RayFormat) -> Result<()> {
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(|e| MccError::io(dir, e))?;
+        }
+        self.output.rays.write(path, format)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ray_file::{RayFile, StoredRay};
+    use crate::test_util::{scratch_dir, view};
+
+    fn bits(r: &StoredRay) -> [u32; 6] {
+        bytemuck::cast(*r)
+    }
+
+    /// Writes views 1 and 2 of frame 7 at 20 × 12 into `dir` and a collage cut from them
+    /// (camera 1 on the left, camera 2 on the right, one stray pixel at (8, 0) unless `clean`).
+    fn cut(dir: &Path, clean: bool) -> PathBuf {
+        let (w, h) = (20, 12);
+        let code = crate::TagCode::default();
+        for id in [1, 2] {
+            let path = dir.join(view_rays_name(7, id, RayFormat::Binary));
+            view(id, w, h).write(&path, RayFormat::Binary).unwrap();
+        }
+        let img = image::RgbImage::from_fn(w, h, |x, y| {
+            image::Rgb(match x {
+                0..4 => code.encode([10, 20, 30], 1).unwrap(),
+                15.. => code.encode([0, 0, 0], 2).unwrap(),
+                _ if y == 0 && x == 8 && !clean => [100, 100, 100],
+                _ => [0, 0, 0],
+            })
+        });
+        let path = dir.join("cut.png");
+        crate::png::write_png(&path, &image::DynamicImage::ImageRgb8(img)).unwrap();
+        path
+    }
+
+    #[test]
+    fn remaps_from_files_and_writes_debug_pictures() {
+        let dir = scratch_dir("remap-files");
+        let mut input = CollageFiles::new(cut(&dir, false), &dir, 7);
+        let err = input.remap(&RemapConfig::GLASSNER).unwrap_err().to_string();
+        assert!(err.contains("cut.png") && err.contains("(8, 0)"), "{err}");
+        input.options.strays = crate::StrayPolicy::Background;
+        let job = RemapJob { debug_dir: Some(dir.join("debug")), ..RemapJob::new(input.clone()) };
+        let done = job.run().unwrap();
+        assert!(matches!(&done.output.warnings[..], [RemapWarning::StraysIgnored(r)] if r.count == 1));
+        assert_eq!(bits(done.output.rays.get(0, 0)), bits(view(1, 20, 12).get(0, 0)));
+        assert_eq!(done.debug_pictures.len(), 6);
+        assert!(dir.join("debug/debug-frame0007-seams.png").is_file());
+        assert!(done.debug_pictures.iter().all(|p| p.is_file()));
+        assert!(dir.join("debug/debug-frame0007-camera02-weights.png").is_file());
+        let saved = dir.join("out/rerender-frame0007.mcr");
+        done.write_rays(&saved, RayFormat::Binary).unwrap();
+        assert_eq!(RayFile::read(&saved).unwrap().rays, done.output.rays.rays);
+        let err = CollageFiles { frame: 8, ..input }.remap(&RemapConfig::GLASSNER).unwrap_err().to_string();
+        assert!(err.contains("no ray files for frame 8"), "{err}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_collage_without_camera_pixels_is_refused_by_name() {
+        let dir = scratch_dir("remap-empty");
+        cut(&dir, true);
+        let black = dir.join("black.png");
+        crate::png::write_png(&black, &image::DynamicImage::ImageRgb8(image::RgbImage::new(20, 12))).unwrap();
+        let err = CollageFiles::new(&black, &dir, 7).remap(&RemapConfig::GLASSNER).unwrap_err();
+        assert!(matches!(&err, MccError::EmptyCollage { path } if *path == black), "{err}");
+        assert_eq!(
+            err.to_string(),
+            format!("{}: has no camera pixels: there is nothing to remap from", black.display())
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

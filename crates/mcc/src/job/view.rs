@@ -1,0 +1,146 @@
+//! A view rendered to files (docs/design.md §4.3, §4.4, §4.7, §8): a camera's render written as EXR
+//! and PNG, with the lens writer recording its pixel-centre rays beside them and the tagger
+//! stamping the view's number into the PNG when asked (what `render --lens-writer --tag` makes).
+
+use crate::error::{MccError, Result};
+use crate::lens_writer::LensWriter;
+use crate::names::view_rays_name;
+use crate::ray_file::RayFormat;
+use crate::tag::TagCode;
+use std::path::{Path, PathBuf};
+use tracer::image::RgbImage;
+use tracer::image_io::{linear_to_srgb8, write_png_rgb8};
+use tracer::job::{CameraRender, RenderInfo, write_exr, write_render};
+use tracer::lens::LensChain;
+use tracer::render::{Progress, Rendered};
+
+/// A view to render: the camera's render, where it goes and what comes with it.
+#[derive(Clone, Copy)]
+pub struct ViewRender<'a> {
+    /// The camera's render (its `camera_id` is the view's number).
+    pub render: CameraRender<'a>,
+    /// The scene file, recorded in the EXR header.
+    pub scene: &'a Path,
+    /// The EXR to write; the PNG goes beside it.
+    pub exr: &'a Path,
+    /// Record the pixel-centre rays as `frameFFFFcameraCC.{mcr|txt}` in the EXR's folder.
+    pub rays: Option<RayFormat>,
+    /// Stamp the view's number into the PNG's low bits with this code.
+    pub tag: Option<TagCode>,
+}
+
+/// The files a [`ViewRender`] wrote.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ViewFiles {
+    /// The EXR.
+    pub exr: PathBuf,
+    /// The PNG beside it (tagged or a plain preview).
+    pub png: PathBuf,
+    /// The ray file, if recorded.
+    pub rays: Option<PathBuf>,
+}
+
+impl ViewRender<'_> {
+    /// Renders the view and writes its files; returns the render and what was written.
+    pub fn run(&self, progress: &dyn Progress) -> Result<(Rendered, ViewFiles)> {
+        let id = self.render.camera_id;
+        if let Some(code) = self.tag {
+            code.check_id(id)?;
+        }
+        let dir = self.exr.parent().map(Path::to_path_buf).unwrap_or_default();
+        let mut lenses = LensChain::new();
+        if let Some(format) = self.rays {
+            lenses.push(Box::new(LensWriter::new(&dir, format)));
+        }
+        let rendered = self.render.run(&mut lenses, progress)?;
+        let info = RenderInfo {
+            scene: self.scene,
+            camera: self.render.name,
+            frame: self.render.frame,
+            quality: &self.render.quality,
+        };
+        let png = match self.tag {
+            None => write_render(self.exr, &rendered, &info)?,
+            Some(code) => {
+                write_exr(self.exr, &rendered, &info)?;
+                let png = self.exr.with_extension("png");
+                write_tagged_png(&png, &rendered.images.image, code, id)?;
+                png
+            }
+        };
+        let rays = self.rays.map(|format| dir.join(view_rays_name(self.render.frame, id, format)));
+        Ok((rendered, ViewFiles { exr: self.exr.to_path_buf(), png, rays }))
+    }
+}
+
+/// Writes `image` (linear) as an 8-bit sRGB PNG tagged with `camera`.
+fn write_tagged_png(path: &Path, image: &RgbImage, code: TagCode, camera: u32) -> Result<()> {
+    let bytes: Vec<u8> = image.pixels.iter().flat_map(|p| p.to_array().map(linear_to_srgb8)).collect();
+    let mut rgb = image::RgbImage::from_raw(image.width, image.height, bytes)
+        .ok_or_else(|| MccError::image(path, "the image's size does not match its pixels"))?;
+    code.tag_rgb(&mut rgb, camera)?;
+    write_png_rgb8(path, image.width, image.height, rgb.as_raw())?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ray_file::RayFile;
+    use crate::test_util::{forward_camera, scratch_dir, sky_scene};
+    use glam::{UVec2, Vec3};
+    use tracer::camera::CameraSample;
+    use tracer::job::Quality;
+    use tracer::render::NoProgress;
+
+    /// A tagged view with rays writes its EXR, a PNG whose every pixel carries the view's
+    /// number, and the camera's own pixel-centre rays; an untagged one a plain preview.
+    #[test]
+    fn writes_the_view_its_tag_and_its_rays() {
+        let dir = scratch_dir("view-render");
+        let sky = Vec3::new(0.2, 0.4, 0.6);
+        let quality = Quality::DEFAULT.with_spp(2);
+        let tracer = quality.tracer(&sky_scene(sky)).unwrap();
+        let camera = forward_camera(UVec2::new(8, 6));
+        let render = CameraRender {
+            tracer: &tracer,
+            camera: camera.as_ref(),
+            name: "forward",
+            camera_id: 5,
+            frame: 3,
+            shutter: (0.0, 0.0),
+            quality,
+        };
+        let exr = dir.join("views/frame0003camera05.exr");
+        std::fs::create_dir_all(exr.parent().unwrap()).unwrap();
+        let code = TagCode::default();
+        let job = ViewRender {
+            render,
+            scene: Path::new("sky"),
+            exr: &exr,
+            rays: Some(RayFormat::Text),
+            tag: Some(code),
+        };
+        let (rendered, files) = job.run(&NoProgress).unwrap();
+        assert!(rendered.images.image.pixels.iter().all(|p| *p == sky));
+        assert_eq!(files.png, dir.join("views/frame0003camera05.png"));
+        assert_eq!(files.rays.as_deref(), Some(dir.join("views/frame0003camera05.txt").as_path()));
+        assert!(files.exr.is_file());
+        let png = crate::png::read_image(&files.png).unwrap().to_rgb8();
+        assert!(png.pixels().all(|p| code.decode(p.0) == 5));
+        let rays = RayFile::read(files.rays.as_ref().unwrap()).unwrap();
+        let centre = camera.generate_ray(&CameraSample::pixel_centre(7, 2, 3.0)).unwrap();
+        let stored = rays.get(7, 2);
+        assert!((stored.direction - centre.direction).length() < 1e-6 && stored.origin == centre.origin);
+
+        let plain = ViewRender { rays: None, tag: None, exr: &dir.join("plain.exr"), ..job };
+        let (_, files) = plain.run(&NoProgress).unwrap();
+        assert_eq!(files.rays, None);
+        let png = crate::png::read_image(&files.png).unwrap().to_rgb8();
+        let srgb = sky.to_array().map(tracer::image_io::linear_to_srgb8);
+        assert!(png.pixels().all(|p| p.0 == srgb));
+        let bad = ViewRender { render: CameraRender { camera_id: 64, ..render }, ..job };
+        assert!(bad.run(&NoProgress).unwrap_err().to_string().contains("camera id 64"));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

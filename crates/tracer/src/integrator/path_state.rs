@@ -1,0 +1,312 @@
+//! One path between its vertices: the state a path carries from one scattering vertex to the
+//! next ([`PathState`]), the vertex it stands on ([`Vertex`]), and the step that takes it one
+//! vertex further ([`PathState::advance`]: scatter, then find the next vertex).
+
+use super::{FirstHit, PathSample, PathTracer};
+use crate::bsdf::dielectric::Dielectric;
+use crate::bsdf::{Bsdf, BsdfParams};
+use crate::bvh::{Hit, Leaving};
+use crate::interaction::SurfaceInteraction;
+use crate::light::ShadowTarget;
+use crate::material::Material;
+use crate::ray::Ray;
+use crate::sampler::{Sampler, sets};
+use crate::sampling::{Frame, power_heuristic};
+use crate::shading::ShadingPoint;
+use glam::{Vec2, Vec3};
+
+/// A shaded path vertex: the hit, its surface, and its material evaluated there.
+#[derive(Clone, Copy)]
+pub(super) struct Vertex<'t> {
+    hit: Hit,
+    si: SurfaceInteraction,
+    material: &'t Material,
+    sp: ShadingPoint,
+    /// The direction back along the ray that found the vertex.
+    wo: Vec3,
+}
+
+impl Vertex<'_> {
+    /// What the camera sees at this vertex (for the AOVs).
+    #[inline(always)]
+    pub(super) fn first_hit(&self) -> FirstHit {
+        let n = if self.sp.normal.dot(self.wo) < 0.0 { -self.sp.normal } else { self.sp.normal };
+        FirstHit { albedo: self.sp.base_color, normal: n, depth: self.hit.t }
+    }
+
+    /// The opaque BSDF here (the Lambert lobe alone with `LAMBERT`).
+    #[inline(always)]
+    fn bsdf<const LAMBERT: bool>(&self) -> Bsdf {
+        let (sp, si) = (&self.sp, &self.si);
+        if LAMBERT {
+            return Bsdf::lambert(sp.base_color, si.shading, si.n_geom, self.wo);
+        }
+        let params = BsdfParams {
+            base_color: sp.base_color,
+            metallic: sp.metallic,
+            roughness: sp.roughness,
+            ..BsdfParams::of(self.material)
+        };
+        // The hit's shading frame, unless a normal map moved the normal.
+        let frame =
+            if self.material.textures.normal.is_some() { Frame::from_z(sp.normal) } else { si.shading };
+        Bsdf::with_frame(&params, frame, si.n_geom, self.wo)
+    }
+}
+
+/// One path between vertices: where it goes next and what it carries.
+#[derive(Clone, Copy)]
+pub(super) struct PathState {
+    /// The ray to the next vertex (the camera ray before the first).
+    ray: Ray,
+    /// Throughput: the product of f·cos/pdf (and roulette's and splitting's weights) so far.
+    beta: Vec3,
+    /// The BSDF density of `ray`'s direction, to weigh the emission it finds by MIS.
+    prev_pdf: f32,
+    /// `ray` left a delta event (glass): the emission it finds takes no MIS weight.
+    specular: bool,
+    /// Scattering vertices behind the path (0: `ray` is the camera ray).
+    depth: u32,
+    /// The triangles `ray` cannot hit: the one it leaves and its leaf-mates behind it.
+    leaving: Leaving,
+    /// The light-sample numbers of the next vertex.
+    u_light: Vec2,
+    /// The path's numbers (branch b of camera sample i: sample i·N + b).
+    sampler: Sampler,
+}
+
+/// The one-dimensional decisions at a vertex, drawn from its set only when one is needed.
+struct Decisions<'s> {
+    sampler: &'s Sampler,
+    vertex: u32,
+    drawn: Option<[f32; 4]>,
+}
+
+impl Decisions<'_> {
+    /// The opaque BSDF's lobe choice.
+    const LOBE: usize = 0;
+    /// Russian roulette.
+    const ROULETTE: usize = 1;
+    /// Glass or the opaque BSDF, for a partly transmissive material.
+    const GLASS: usize = 2;
+    /// Reflection or refraction at glass.
+    const FRESNEL: usize = 3;
+
+    #[inline(always)]
+    fn get(&mut self, k: usize) -> f32 {
+        self.drawn.get_or_insert_with(|| self.sampler.get(sets::decisions(self.vertex)))[k]
+    }
+}
+
+impl PathState {
+    /// A path about to trace the camera ray `ray`, with numbers `sampler` and the first vertex's
+    /// light sample `u_light`.
+    #[inline(always)]
+    pub(super) fn camera(ray: Ray, sampler: Sampler, u_light: Vec2) -> Self {
+        Self {
+            ray,
+            beta: Vec3::ONE,
+            prev_pdf: 0.0,
+            specular: false,
+            depth: 0,
+            leaving: Leaving::NOTHING,
+            u_light,
+            sampler,
+        }
+    }
+
+    /// The same path drawing its numbers from `sampler` (a split branch at the camera ray).
+    #[inline(always)]
+    pub(super) fn with_sampler(self, sampler: Sampler) -> Self {
+        Self { sampler, ..self }
+    }
+
+    /// Takes the path one vertex further: scatters at `vertex` (with its light sample when
+    /// `sample_light`) and finds the next vertex. `None` when the path ends: no direction to
+    /// go on, roulette, an escaped ray, or the maximum depth (whose emission still counts).
+    #[inline(always)]
+    pub(super) fn advance<'t, const ALPHA: bool, const LAMBERT: bool>(
+        &mut self,
+        tracer: &'t PathTracer,
+        vertex: &Vertex,
+        sample_light: bool,
+        out: &mut PathSample,
+    ) -> Option<Vertex<'t>> {
+        if !self.scatter::<ALPHA, LAMBERT>(tracer, vertex, sample_light, out) {
+            return None;
+        }
+        let next = self.find::<ALPHA, LAMBERT>(tracer, out)?;
+        (self.depth < tracer.config.max_depth).then_some(next)
+    }
+
+    /// Traces `ray` to the next vertex and adds the light it finds: the environment when the
+    /// ray escapes (then `None`), else the emission of the surface it hits. Both are weighted by
+    /// MIS against light sampling, except on the camera ray, after a delta event, and for a
+    /// constant environment (which light sampling never picks).
+    #[inline(always)]
+    pub(super) fn find<'t, const ALPHA: bool, const LAMBERT: bool>(
+        &self,
+        tracer: &'t PathTracer,
+        out: &mut PathSample,
+    ) -> Option<Vertex<'t>> {
+        let ray = &self.ray;
+        out.rays += 1;
+        let Some(hit) = tracer.closest_hit::<ALPHA>(ray, self.leaving) else {
+            let env = tracer.lights.environment();
+            let le = env.map_or(tracer.environment, |e| e.radiance(ray.direction));
+            if le != Vec3::ZERO {
+                let w = if self.depth == 0 || self.specular || env.is_none() {
+                    1.0
+                } else {
+                    power_heuristic(self.prev_pdf, tracer.lights.pdf_environment(ray.direction))
+                };
+                out.radiance += self.beta * le * w;
+            }
+            return None;
+        };
+        debug_assert!(!LAMBERT || tracer.lambert_only);
+        let si = tracer.surface::<LAMBERT>(&hit);
+        let material = &tracer.materials[si.material as usize];
+        let sp = tracer.shade::<LAMBERT>(material, &si, hit.barycentrics);
+        let wo = -ray.direction;
+        if sp.emission != Vec3::ZERO && (material.emission_two_sided || si.n_geom.dot(wo) > 0.0) {
+            if self.depth == 0 || self.specular {
+                out.radiance += self.beta * sp.emission;
+            } else {
+                let light_pdf = tracer.lights.pdf_triangle(hit.triangle, hit.t, ray.direction);
+                out.radiance += self.beta * sp.emission * power_heuristic(self.prev_pdf, light_pdf);
+            }
+        }
+        Some(Vertex { hit, si, material, sp, wo })
+    }
+
+    /// Scatters at vertex `v`: picks its lobe (glass or the opaque BSDF), samples the direction
+    /// that continues the path into `ray`, adds next-event estimation (opaque lobe, when
+    /// `sample_light`), then plays Russian roulette. False when the path ends here.
+    #[inline(always)]
+    fn scatter<const ALPHA: bool, const LAMBERT: bool>(
+        &mut self,
+        tracer: &PathTracer,
+        v: &Vertex,
+        sample_light: bool,
+        out: &mut PathSample,
+    ) -> bool {
+        let depth = self.depth;
+        let time = self.ray.time;
+        let mut decisions = Decisions { sampler: &self.sampler, vertex: depth, drawn: None };
+        let glass_weight = v.material.transmission * (1.0 - v.sp.metallic);
+        let glass = !LAMBERT
+            && glass_weight > 0.0
+            && (glass_weight >= 1.0 || decisions.get(Decisions::GLASS) < glass_weight);
+        if glass {
+            let lobe = Dielectric::new(v.sp.normal, v.si.n_geom, v.wo, v.material.ior, v.sp.base_color);
+            let Some(s) = lobe.sample(decisions.get(Decisions::FRESNEL)) else { return false };
+            let [_, _, l0, l1] = self.sampler.get(sets::vertex(depth));
+            self.u_light = Vec2::new(l0, l1);
+            self.beta *= s.weight;
+            self.specular = true;
+            self.ray = v.si.spawn_ray(s.wi, time);
+        } else {
+            let bsdf = v.bsdf::<LAMBERT>();
+            if bsdf.is_black() {
+                return false;
+            }
+            // At the last vertex the BSDF ray could only find emission, which light sampling
+            // already covers: estimate it by light sampling alone (weight 1) and skip that ray
+            // and its hit. Unbiased either way; done only on diffuse BSDFs (where a light sample
+            // is never the worse strategy by much) past the first vertex (direct light seen by
+            // the camera keeps MIS). It saves one closest-hit query in every path that reaches
+            // the last vertex (docs/performance.md, ledger: "last vertex by light sampling
+            // alone").
+            let light_only = depth + 1 == tracer.config.max_depth
+                && depth > 0
+                && tracer.lights_cover_emission
+                && bsdf.is_diffuse();
+
+            // The BSDF sample that continues the path, its ray and the next vertex's light
+            // numbers come before next-event estimation: they do not depend on it, and ahead of
+            // its shadow query they are computed while the query runs (docs/performance.md,
+            // ledger: "continuing sample before the shadow query"). An `if`, not `bool::then`
+            // with a closure, which LLVM once left out of line (ledger: "Lambert-only path").
+            let next = if light_only {
+                None
+            } else {
+                let [u0, u1, l0, l1] = self.sampler.get(sets::vertex(depth));
+                let u_lobe = if bsdf.has_lobe_choice() { decisions.get(Decisions::LOBE) } else { 0.5 };
+                let bs = bsdf.sample(Vec2::new(u0, u1), u_lobe);
+                Some((bs.map(|bs| (bs, v.si.spawn_ray(bs.wi, time))), Vec2::new(l0, l1)))
+            };
+            if sample_light {
+                self.sample_light::<ALPHA, LAMBERT>(tracer, v, &bsdf, light_only, out);
+            }
+            // Go on along the BSDF sample drawn above. (`next` nests its two Options on purpose:
+            // docs/performance.md, ledger: "continuation sample's Options flattened".)
+            let Some((Some((bs, next_ray)), u_next)) = next else { return false };
+            self.u_light = u_next;
+            self.beta *= bs.f * (bs.cos / bs.pdf);
+            self.prev_pdf = bs.pdf;
+            self.specular = false;
+            self.ray = next_ray;
+        }
+        self.leaving = tracer.bvh.leaving(v.hit.slot, self.ray.direction);
+        if depth == 0 {
+            self.beta *= tracer.branch_weight;
+        }
+        self.depth += 1;
+        if depth + 1 >= tracer.config.rr_depth {
+            // A branch's throughput at full weight (its 1/N left out, ×1 exactly when unsplit):
+            // with the 1/N in, roulette would end N − 1 of N branches on average at their first
+            // vertex and undo the split.
+            let q = (1.0 - self.beta.max_element() * tracer.config.split as f32).max(0.0);
+            if decisions.get(Decisions::ROULETTE) < q {
+                return false;
+            }
+            self.beta /= 1.0 - q;
+        }
+        true
+    }
+
+    /// Next-event estimation at `v`: one light sample (chosen by power), its shadow ray, and its
+    /// contribution through `bsdf`, weighted by MIS against the BSDF sample unless the light is
+    /// a delta light or `light_only` (the BSDF sample was skipped).
+    #[inline(always)]
+    fn sample_light<const ALPHA: bool, const LAMBERT: bool>(
+        &self,
+        tracer: &PathTracer,
+        v: &Vertex,
+        bsdf: &Bsdf,
+        light_only: bool,
+        out: &mut PathSample,
+    ) {
+        let si = &v.si;
+        let ls = if LAMBERT {
+            tracer.lights.sample_triangles(si.p, self.u_light)
+        } else {
+            tracer.lights.sample(si.p, self.u_light)
+        };
+        let Some(ls) = ls else { return };
+        let (f, bsdf_pdf) = bsdf.eval(ls.wi);
+        let mut li = ls.li;
+        if let (false, Some((tri, b))) = (LAMBERT, ls.emitter) {
+            let m = &tracer.materials[tracer.material_ids[tri as usize] as usize];
+            if let Some(r) = &m.textures.emissive {
+                li *= r.eval(&tracer.textures, tracer.uvs(tri, b)).truncate();
+            }
+        }
+        if f == Vec3::ZERO || li == Vec3::ZERO {
+            return;
+        }
+        let shadow = match ls.target {
+            ShadowTarget::Point { p, p_error, n } => si.spawn_ray_to(p, p_error, n, self.ray.time),
+            ShadowTarget::Infinite => Some((si.spawn_ray(ls.wi, self.ray.time), f32::INFINITY)),
+        };
+        let Some((shadow, t_max)) = shadow else { return };
+        out.rays += 1;
+        if tracer.occluded::<ALPHA>(&shadow, t_max, tracer.bvh.leaving(v.hit.slot, shadow.direction)) {
+            return;
+        }
+        let cos = ls.wi.dot(bsdf.shading_normal()).abs();
+        let w = if ls.is_delta || light_only { 1.0 } else { power_heuristic(ls.pdf, bsdf_pdf) };
+        out.radiance += self.beta * f * li * (cos * w / ls.pdf);
+    }
+}

@@ -1,0 +1,141 @@
+//! glTF animations (§3.11): every channel's sampler read through the checked accessors, its keys
+//! validated ([`Channel::new`]) and its target resolved to a node of the rendered hierarchy.
+//! Morph-target `weights` channels are not supported: one warning, then ignored. Channels of
+//! nodes outside the rendered scene are checked, then dropped.
+
+use super::{accessor, node_label};
+use crate::scene::rig::{Channel, Interpolation, Pose, Property, Rig};
+use gltf::json::animation::{Interpolation as GltfInterpolation, Property as GltfProperty};
+use gltf::json::validation::Checked;
+use std::collections::HashMap;
+use std::collections::hash_map::Entry;
+
+fn animation_label(index: usize, name: Option<&str>) -> String {
+    match name {
+        Some(name) => format!("animation {index} ('{name}')"),
+        None => format!("animation {index}"),
+    }
+}
+
+/// Checks the indices animations hold, which the gltf crate's validator would report only as a
+/// JSON path: here the message names the animation and channel.
+pub(super) fn check_indices(root: &gltf::json::Root) -> Result<(), String> {
+    for (a, anim) in root.animations.iter().enumerate() {
+        let name = animation_label(a, anim.name.as_deref());
+        for (c, channel) in anim.channels.iter().enumerate() {
+            let node = channel.target.node.value();
+            if node >= root.nodes.len() {
+                return Err(format!(
+                    "{name} channel {c} targets node {node}, but the file has {} nodes",
+                    root.nodes.len()
+                ));
+            }
+            let sampler = channel.sampler.value();
+            if sampler >= anim.samplers.len() {
+                return Err(format!(
+                    "{name} channel {c} uses sampler {sampler}, but the animation has {}",
+                    anim.samplers.len()
+                ));
+            }
+        }
+        for (s, sampler) in anim.samplers.iter().enumerate() {
+            for (what, accessor) in [("input", sampler.input.value()), ("output", sampler.output.value())] {
+                if accessor >= root.accessors.len() {
+                    return Err(format!(
+                        "{name} sampler {s}: {what} accessor {accessor} does not exist (the file has {})",
+                        root.accessors.len()
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The file's translation, rotation and scale channels on `rig`'s nodes (`rig_node_of` maps a
+/// glTF node index to its rig node), with warnings about what was ignored; the message names the
+/// animation, channel, node and key at fault.
+pub(super) fn read(
+    doc: &gltf::Document,
+    buffers: &[Vec<u8>],
+    rig: &Rig,
+    rig_node_of: &[Option<usize>],
+) -> Result<(Vec<Channel>, Vec<String>), String> {
+    let mut channels = Vec::new();
+    let mut warnings = Vec::new();
+    let mut weights = 0;
+    // Which channel animates each (rig node, property) first.
+    let mut owner: HashMap<(usize, Property), String> = HashMap::new();
+    let mut matrix_warned = vec![false; rig.nodes.len()];
+    for (a, anim) in doc.as_json().animations.iter().enumerate() {
+        let name = animation_label(a, anim.name.as_deref());
+        for (c, json) in anim.channels.iter().enumerate() {
+            let node = json.target.node.value();
+            let node_name = doc.nodes().nth(node).map_or_else(|| format!("node {node}"), |n| node_label(&n));
+            let property = match json.target.path {
+                Checked::Valid(GltfProperty::Translation) => Property::Translation,
+                Checked::Valid(GltfProperty::Rotation) => Property::Rotation,
+                Checked::Valid(GltfProperty::Scale) => Property::Scale,
+                Checked::Valid(GltfProperty::MorphTargetWeights) => {
+                    weights += 1;
+                    continue;
+                }
+                Checked::Invalid => {
+                    return Err(format!("{name} channel {c} ({node_name}): unknown target path"));
+                }
+            };
+            let what = format!("{name} channel {c} ({node_name} {property})");
+            let fail = |m: String| format!("{what}: {m}");
+            let s = json.sampler.value();
+            let sampler = anim.samplers.get(s).ok_or_else(|| fail(format!("sampler {s} does not exist")))?;
+            let interpolation = match sampler.interpolation {
+                Checked::Valid(GltfInterpolation::Step) => Interpolation::Step,
+                Checked::Valid(GltfInterpolation::Linear) => Interpolation::Linear,
+                Checked::Valid(GltfInterpolation::CubicSpline) => Interpolation::CubicSpline,
+                Checked::Invalid => return Err(fail(format!("sampler {s} has an unknown interpolation"))),
+            };
+            let accessor_at = |i: usize| {
+                doc.accessors()
+                    .nth(i)
+                    .ok_or_else(|| fail(format!("sampler {s}: accessor {i} does not exist")))
+            };
+            let (input, output) = (accessor_at(sampler.input.value())?, accessor_at(sampler.output.value())?);
+            let times = accessor::read_times(&input, buffers).map_err(fail)?;
+            let values = match property {
+                Property::Rotation => accessor::read_rotations(&output, buffers),
+                _ => accessor::read_vec3(&output, buffers, &format!("{property} output"))
+                    .map(|v| v.into_iter().map(|v| v.extend(0.0)).collect()),
+            }
+            .map_err(fail)?;
+            let target = rig_node_of.get(node).copied().flatten();
+            // Checked even when the node is not rendered: a malformed file is refused either way.
+            let channel = Channel::new(target.unwrap_or(usize::MAX), property, interpolation, times, values)
+                .map_err(fail)?;
+            let Some(target) = target else { continue };
+            match owner.entry((target, property)) {
+                Entry::Occupied(first) => {
+                    warnings.push(format!("{what}: {} already animates this; ignored", first.get()));
+                    continue;
+                }
+                Entry::Vacant(slot) => {
+                    slot.insert(format!("{name} channel {c}"));
+                }
+            }
+            if matches!(rig.nodes.get(target).map(|n| n.rest), Some(Pose::Matrix(_)))
+                && !matrix_warned[target]
+            {
+                matrix_warned[target] = true;
+                warnings.push(format!(
+                    "{node_name} is animated but has a matrix, which glTF forbids; the matrix is split \
+                     into translation, rotation and scale"
+                ));
+            }
+            channels.push(channel);
+        }
+    }
+    if weights > 0 {
+        let s = if weights == 1 { " is" } else { "s are" };
+        warnings.push(format!("{weights} morph-target weights channel{s} not supported; ignored"));
+    }
+    Ok((channels, warnings))
+}
