@@ -14,10 +14,10 @@ use crate::slerp::angle_between;
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
-/// Relative residual at which the membrane solves stop. Their error is then far below a pixel's
-/// step (docs/design.md §5.8).
+/// Relative residual at which the membrane solves stop. What error is left is smooth: it bends
+/// the field by far less than a pixel's step (docs/design.md §5.8).
 const TOLERANCE: f64 = 1e-4;
-/// Iterations a solve may take (it needs about 6 at [`TOLERANCE`]).
+/// Iterations a solve may take (a handful reach [`TOLERANCE`]; docs/performance.md).
 const MAX_ITERATIONS: usize = 30;
 
 /// The azimuthal equidistant map about a unit direction.
