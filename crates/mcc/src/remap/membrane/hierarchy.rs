@@ -27,6 +27,9 @@ const COARSEST_SWEEPS: usize = 20;
 const LINK_SCALE: f32 = 0.5;
 const GROUND_SCALE: f32 = 0.75;
 
+/// One row of a coarse level's east links, south links, grounds and activity marks.
+type CellRows<'a> = (((&'a mut [f32], &'a mut [f32]), &'a mut [f32]), &'a mut [f32]);
+
 /// A coarse level: per cell the conductance to its east and south neighbours and its diagonal
 /// (their sum with the west and north links and the ground); a diagonal of 0 marks a cell
 /// without free pixels.
@@ -140,10 +143,7 @@ impl Coarse {
             v.resize(cw * ch, 0.0);
         }
         // Per cell (links and ground, diag = 1 marking activity), then the diagonals.
-        let cells = |(cy, (((east, south), grounds), active_row)): (
-            usize,
-            (((&mut [f32], &mut [f32]), &mut [f32]), &mut [f32]),
-        )| {
+        let cells = |(cy, (((east, south), grounds), active_row)): (usize, CellRows<'_>)| {
             for cx in 0..cw {
                 let (x0, y0) = (2 * cx, 2 * cy);
                 let mut any = false;
@@ -396,10 +396,10 @@ pub(super) fn restrict<const K: usize>(
                 *f = std::array::from_fn(|k| 0.75 * (b[k] + c[k]) + 0.25 * (a[k] + d[k]));
             } else {
                 let mut s = [0.0f32; K];
-                for x in x0.saturating_sub(1)..(x0 + 3).min(w) {
+                for (x, v) in row.iter().enumerate().take((x0 + 3).min(w)).skip(x0.saturating_sub(1)) {
                     let wx = weight(x, cx, cw);
                     for k in 0..K {
-                        s[k] += wx * row[x][k];
+                        s[k] += wx * v[k];
                     }
                 }
                 *f = s;

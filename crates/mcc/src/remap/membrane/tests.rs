@@ -39,11 +39,11 @@ fn random_mask(rng: &mut Rng, w: usize, h: usize) -> Vec<bool> {
         let (cx, cy) = (rng.below(w as u32) as i64, rng.below(h as u32) as i64);
         let r = 1 + rng.below((w.max(h) / 3) as u32 + 1) as i64;
         let ring = rng.below(2) == 0;
-        for p in 0..w * h {
+        for (p, f) in fixed.iter_mut().enumerate() {
             let (x, y) = ((p % w) as i64, (p / w) as i64);
             let d2 = (x - cx).pow(2) + (y - cy).pow(2);
             if d2 <= r * r && (!ring || d2 * 4 >= r * r) {
-                fixed[p] = true;
+                *f = true;
             }
         }
     }
