@@ -444,23 +444,30 @@ pub(super) fn prolong_add<const K: usize>(
     h: usize,
     free: impl Fn(usize) -> bool + Sync,
 ) {
-    let (cw, ch) = (coarse.width, coarse.height);
     debug_assert_eq!(u.len(), w * h);
     for_rows(u, w, |(y, row)| {
-        let cy = y / 2;
-        let oy = if y & 1 == 1 { (cy + 1).min(ch - 1) } else { cy.saturating_sub(1) };
         for (x, out) in row.iter_mut().enumerate() {
             if !free(y * w + x) {
                 continue;
             }
-            let cx = x / 2;
-            let ox = if x & 1 == 1 { (cx + 1).min(cw - 1) } else { cx.saturating_sub(1) };
-            let (a, b, c, d) = (e[cy * cw + cx], e[cy * cw + ox], e[oy * cw + cx], e[oy * cw + ox]);
+            let [a, b, c, d] = stencil(x, y, coarse).map(|(cell, _)| e[cell]);
             for k in 0..K {
                 out[k] += 0.5625 * a[k] + 0.1875 * (b[k] + c[k]) + 0.0625 * d[k];
             }
         }
     });
+}
+
+/// The four coarse cells under fine cell (x, y) and their bilinear weights (cell-centred: its
+/// own cell, the horizontal and vertical neighbours towards it, the diagonal one; clamped at the
+/// border).
+#[inline]
+fn stencil(x: usize, y: usize, coarse: &Coarse) -> [(usize, f32); 4] {
+    let (cw, ch) = (coarse.width, coarse.height);
+    let (cx, cy) = (x / 2, y / 2);
+    let ox = if x & 1 == 1 { (cx + 1).min(cw - 1) } else { cx.saturating_sub(1) };
+    let oy = if y & 1 == 1 { (cy + 1).min(ch - 1) } else { cy.saturating_sub(1) };
+    [(cy * cw + cx, 0.5625), (cy * cw + ox, 0.1875), (oy * cw + cx, 0.1875), (oy * cw + ox, 0.0625)]
 }
 
 /// Sets `u` at every `free` cell to the bilinear interpolation of the coarse *solution* `e` over
@@ -473,25 +480,15 @@ pub(super) fn interpolate<const K: usize>(
     h: usize,
     free: impl Fn(usize) -> bool + Sync,
 ) {
-    let (cw, ch) = (coarse.width, coarse.height);
     debug_assert_eq!(u.len(), w * h);
     for_rows(u, w, |(y, row)| {
-        let cy = y / 2;
-        let oy = if y & 1 == 1 { (cy + 1).min(ch - 1) } else { cy.saturating_sub(1) };
         for (x, out) in row.iter_mut().enumerate() {
             if !free(y * w + x) {
                 continue;
             }
-            let cx = x / 2;
-            let ox = if x & 1 == 1 { (cx + 1).min(cw - 1) } else { cx.saturating_sub(1) };
             let mut s = [0.0f32; K];
             let mut total = 0.0f32;
-            for (c, wt) in [
-                (cy * cw + cx, 0.5625),
-                (cy * cw + ox, 0.1875),
-                (oy * cw + cx, 0.1875),
-                (oy * cw + ox, 0.0625),
-            ] {
+            for (c, wt) in stencil(x, y, coarse) {
                 if coarse.diag[c] > 0.0 {
                     total += wt;
                     for k in 0..K {

@@ -164,7 +164,7 @@ impl<const K: usize> Membrane<K> {
                     if fixed[p] {
                         continue;
                     }
-                    let mut add = |q: usize| {
+                    each_neighbour(x, y, w, h, |q| {
                         if fixed[q] {
                             for k in 0..K {
                                 out[k] += values[q][k];
@@ -172,19 +172,7 @@ impl<const K: usize> Membrane<K> {
                             }
                             count += 1;
                         }
-                    };
-                    if x > 0 {
-                        add(p - 1);
-                    }
-                    if x + 1 < w {
-                        add(p + 1);
-                    }
-                    if y > 0 {
-                        add(p - w);
-                    }
-                    if y + 1 < h {
-                        add(p + w);
-                    }
+                    });
                 }
                 (sum, count)
             })
@@ -445,28 +433,33 @@ fn neighbour_count(x: usize, y: usize, w: usize, h: usize) -> f32 {
 /// The sum of the in-image 4-neighbours of (x, y) and their count.
 #[inline]
 fn neighbour_sum<const K: usize>(v: &[[f32; K]], x: usize, y: usize, w: usize, h: usize) -> ([f32; K], f32) {
-    let p = y * w + x;
     let mut sum = [0.0f32; K];
     let mut n = 0.0f32;
-    let mut add = |q: usize| {
+    each_neighbour(x, y, w, h, |q| {
         for k in 0..K {
             sum[k] += v[q][k];
         }
         n += 1.0;
-    };
+    });
+    (sum, n)
+}
+
+/// Calls `f` with the index of every in-image 4-neighbour of (x, y): left, right, up, down.
+#[inline]
+fn each_neighbour(x: usize, y: usize, w: usize, h: usize, mut f: impl FnMut(usize)) {
+    let p = y * w + x;
     if x > 0 {
-        add(p - 1);
+        f(p - 1);
     }
     if x + 1 < w {
-        add(p + 1);
+        f(p + 1);
     }
     if y > 0 {
-        add(p - w);
+        f(p - w);
     }
     if y + 1 < h {
-        add(p + w);
+        f(p + w);
     }
-    (sum, n)
 }
 
 /// A grid shared by the tasks of one red–black half-sweep: each task writes only cells of the
@@ -494,29 +487,16 @@ impl<const K: usize> Shared<[f32; K]> {
     /// The sum of the in-image 4-neighbours of (x, y) and their count. Caller: as for `read`.
     #[inline]
     unsafe fn neighbours(&self, x: usize, y: usize, w: usize, h: usize) -> ([f32; K], f32) {
-        let p = y * w + x;
         let mut sum = [0.0f32; K];
         let mut n = 0.0f32;
-        let mut add = |q: usize| {
+        each_neighbour(x, y, w, h, |q| {
             // SAFETY: the caller's guarantee covers every neighbour.
             let v = unsafe { self.read(q) };
             for k in 0..K {
                 sum[k] += v[k];
             }
             n += 1.0;
-        };
-        if x > 0 {
-            add(p - 1);
-        }
-        if x + 1 < w {
-            add(p + 1);
-        }
-        if y > 0 {
-            add(p - w);
-        }
-        if y + 1 < h {
-            add(p + w);
-        }
+        });
         (sum, n)
     }
 }
