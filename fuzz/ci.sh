@@ -2,8 +2,8 @@
 # CI's bounded cargo-fuzz run (issue 6 item 4; fuzz/README.md, "CI"), called by .ci/run.
 #
 # 1. Installs cargo-fuzz, pinned, if the right version is missing.
-# 2. Builds the four targets once (flags below; measured times in fuzz/README.md).
-# 3. Fuzzes each target for FUZZ_SECONDS (27 s: under 2 minutes in all) from a temporary copy of
+# 2. Builds the five targets once (flags below; measured times in fuzz/README.md).
+# 3. Fuzzes each target for FUZZ_SECONDS (22 s: five targets, under 2 minutes in all) from a temporary copy of
 #    the committed corpus (so a run never adds files to fuzz/corpus), with a fixed libFuzzer seed.
 # 4. Fails if a target finds a crash, a timeout (an input running past FUZZ_INPUT_TIMEOUT) or an
 #    out-of-memory (past 2048 MiB), naming the artifact and the command that replays it. Install
@@ -15,8 +15,8 @@
 set -euo pipefail
 
 CARGO_FUZZ_VERSION=0.13.2
-TARGETS=(ray_file collage gltf obj)
-FUZZ_SECONDS=${FUZZ_SECONDS:-27}
+TARGETS=(ray_file collage layers gltf obj)
+FUZZ_SECONDS=${FUZZ_SECONDS:-22}
 FUZZ_SEED=${FUZZ_SEED:-20260611}
 FUZZ_INPUT_TIMEOUT=${FUZZ_INPUT_TIMEOUT:-10}
 # Build flags, chosen by measurement (fuzz/README.md): release optimisation with debug assertions

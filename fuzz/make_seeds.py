@@ -15,6 +15,8 @@ import json
 import math
 import os
 import struct
+import zipfile
+import io
 import zlib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -470,12 +472,105 @@ Tr 0.2
         + SEPARATOR + b"newmtl g\nKd 0.5\nKs 0.04\nNs 50\n")
     put("obj", "index_zero_relative.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/0 2/1 3/1\nf -4 -2 -1\n")
 
+# ------------------------------------------------------------------------------------------------
+# Layered collages (crates/mcc/src/layers/): OpenRaster archives and PSD documents
+
+
+def ora(stack_xml, layers, mimetype=b"image/openraster", deflate_layers=False):
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w") as z:
+        def add(name, data, method):
+            info = zipfile.ZipInfo(name, date_time=(1980, 1, 1, 0, 0, 0))
+            info.compress_type = method
+            z.writestr(info, data)
+        if mimetype is not None:
+            add("mimetype", mimetype, zipfile.ZIP_STORED)
+        add("stack.xml", stack_xml, zipfile.ZIP_DEFLATED)
+        for name, data in layers:
+            add(name, data, zipfile.ZIP_DEFLATED if deflate_layers else zipfile.ZIP_STORED)
+    return buf.getvalue()
+
+
+def rgba_png(w, h, alpha):
+    rows = [b"".join(bytes([90, 60, 30, alpha(x, y)]) for x in range(w)) for y in range(h)]
+    return png(w, h, rows, 6)
+
+
+def psd(w, h, records, depth=8):
+    """records: top first, each (name, (left, top, lw, lh), alpha rows or None, blend, section, opacity, flags)."""
+    recs, data = b"", b""
+    for name, (left, top, lw, lh), alpha, blend, section, opacity, flags in reversed(records):
+        channels = []
+        for cid in (-1, 0, 1, 2):
+            if alpha is None or lw * lh == 0:
+                channels.append((cid, struct.pack(">H", 0)))
+            elif cid == -1:
+                rows = [bytes(r) for r in alpha]
+                packed = []
+                for r in rows:
+                    out = b""
+                    for b in r:
+                        out += bytes([0, b])
+                    packed.append(out)
+                body = struct.pack(">H", 1) + b"".join(struct.pack(">H", len(p)) for p in packed) + b"".join(packed)
+                channels.append((cid, body))
+            else:
+                channels.append((cid, struct.pack(">H", 0) + bytes([100]) * (lw * lh)))
+        rec = struct.pack(">iiiiH", top, left, top + lh, left + lw, len(channels))
+        for cid, body in channels:
+            rec += struct.pack(">hI", cid, len(body))
+        rec += b"8BIM" + blend + bytes([opacity, 0, flags, 0])
+        nm = name.encode("latin-1")
+        extra = struct.pack(">II", 0, 0) + bytes([len(nm)]) + nm
+        while (len(extra) - 8) % 4:
+            extra += b"\0"
+        if section:
+            block = struct.pack(">I", section) + b"8BIMpass"
+            extra += b"8BIMlsct" + struct.pack(">I", len(block)) + block
+        rec += struct.pack(">I", len(extra)) + extra
+        recs += rec
+        data += b"".join(body for _, body in channels)
+    info = struct.pack(">h", len(records)) + recs + data
+    section = struct.pack(">I", len(info)) + info + struct.pack(">I", 0)
+    head = b"8BPS" + struct.pack(">H", 1) + b"\0" * 6 + struct.pack(">HIIHH", 4, h, w, depth, 3)
+    return head + struct.pack(">II", 0, 0) + struct.pack(">I", len(section)) + section + struct.pack(">H", 0)
+
+
+def layers_seeds():
+    soft = rgba_png(4, 3, lambda x, y: (x * 80 + y * 30) % 256)
+    solid = rgba_png(6, 4, lambda x, y: 255)
+    black = png(6, 4, [b"\0\0\0" * 6] * 4, 2)
+    stack = (b"<?xml version='1.0' encoding='UTF-8'?><image version=\"0.0.5\" w=\"6\" h=\"4\"><stack>"
+             b"<layer name=\"sketch\" src=\"data/s.png\" visibility=\"hidden\"/>"
+             b"<layer name=\"left (camera 1)\" src=\"data/a.png\" x=\"-1\" y=\"1\" opacity=\"0.8\"/>"
+             b"<stack name=\"group\" opacity=\"0.9\" isolation=\"auto\">"
+             b"<layer name=\"camera 2\" src=\"data/b.png\" x=\"3\"/></stack>"
+             b"<stack name=\"regions\"><layer name=\"sky\" src=\"data/a.png\"/></stack>"
+             b"<layer name=\"background\" src=\"data/bg.png\"/></stack></image>")
+    layers = [("data/s.png", soft), ("data/a.png", soft), ("data/b.png", solid), ("data/bg.png", black)]
+    put("layers", "views.ora", ora(stack, layers))
+    put("layers", "deflated.ora", ora(stack, layers, deflate_layers=True))
+    put("layers", "no_mimetype.ora", ora(stack, layers, mimetype=None))
+    put("layers", "multiply.ora", ora(stack.replace(b"opacity=\"0.8\"", b"composite-op=\"svg:multiply\""), layers))
+    put("layers", "truncated.ora", ora(stack, layers)[:-40])
+    a = [[(x * 60 + y * 40) % 256 for x in range(4)] for y in range(3)]
+    full = [[255] * 6 for _ in range(4)]
+    put("layers", "layers.psd", psd(6, 4, [
+        ("sketch", (0, 0, 6, 4), full, b"norm", 0, 255, 2),
+        ("1", (-1, 1, 4, 3), a, b"norm", 0, 204, 0),
+        ("group", (0, 0, 0, 0), None, b"pass", 1, 230, 0),
+        ("frame0000camera02.png", (3, 0, 6, 4), full, b"norm", 0, 255, 0),
+        ("</Layer group>", (0, 0, 0, 0), None, b"norm", 3, 255, 0),
+    ]))
+    put("layers", "multiply.psd", psd(6, 4, [("2", (0, 0, 6, 4), full, b"mul ", 0, 255, 0)]))
+
 
 if __name__ == "__main__":
     ray_seeds()
     collage_seeds()
     gltf_seeds()
     obj_seeds()
+    layers_seeds()
     total = 0
     for d, _, files in os.walk(CORPUS):
         total += sum(os.path.getsize(os.path.join(d, f)) for f in files)

@@ -240,6 +240,11 @@ fn fuzz_collage_and_regions_never_panic() {
 }
 
 #[test]
+fn fuzz_layers_never_panic() {
+    run("layers", harness::layers);
+}
+
+#[test]
 fn fuzz_gltf_never_panics() {
     run("gltf", harness::gltf);
 }

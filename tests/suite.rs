@@ -15,6 +15,7 @@ mod determinism;
 mod furnace;
 mod fuzz_properties;
 mod golden;
+mod layers;
 mod lens_shaders;
 mod mcc_pipeline;
 mod robustness;

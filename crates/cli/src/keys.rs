@@ -14,7 +14,8 @@ use std::path::PathBuf;
 /// Arguments of `mcctrace keys`.
 #[derive(Args, Debug)]
 pub struct KeysArgs {
-    /// A key: FRAME=COLLAGE or FRAME=COLLAGE,REGIONS (the region image; default:
+    /// A key: FRAME=COLLAGE or FRAME=COLLAGE,REGIONS (the collage an image or a layered .ora or
+    /// .psd file; the region image by default the collage's "regions" layer group, else
     /// <collage-stem>-regions.png beside the collage, if present). Repeat for each key; each
     /// key may use its own cameras.
     #[arg(long = "key", value_name = "FRAME=COLLAGE[,REGIONS]", required = true)]

@@ -50,6 +50,10 @@ pub struct RenderArgs {
     /// in separate runs).
     #[arg(long, default_value_t = 1, value_name = "ID")]
     pub first_id: u32,
+    /// Also write the views as one OpenRaster file, a layer per camera over a black background,
+    /// to cut the collage in a layered editor (Krita, GIMP, MyPaint) and remap it as it is.
+    #[arg(long, value_name = "FILE.ora")]
+    pub layers: Option<PathBuf>,
 }
 
 pub fn run(a: RenderArgs) -> anyhow::Result<()> {
@@ -71,7 +75,11 @@ pub fn run(a: RenderArgs) -> anyhow::Result<()> {
             code.check_id(v.id)?;
         }
     }
+    if let Some(path) = &a.layers {
+        mcc::layers::openraster::check_path(path)?;
+    }
     let outputs = output_paths(&a.out, &views, a.frame)?;
+    let mut layers = Vec::new();
     let quality = q.quality();
     let tracer = quality.tracer(&scene)?;
     let bars = Bars::new(q.quiet);
@@ -97,6 +105,16 @@ pub fn run(a: RenderArgs) -> anyhow::Result<()> {
         if !q.quiet {
             eprintln!("{}", summary(&view.desc.name, q.spp, &rendered, exr));
         }
+        if a.layers.is_some() {
+            layers.push((view.id, &view.desc.name, mcc::layers::openraster::srgb8(&rendered.images.image)));
+        }
+    }
+    if let Some(path) = &a.layers {
+        let views: Vec<_> = layers
+            .iter()
+            .map(|(id, name, image)| mcc::layers::openraster::ViewLayer { id: *id, name, image })
+            .collect();
+        mcc::layers::openraster::write(path, &views)?;
     }
     Ok(())
 }

@@ -39,10 +39,32 @@ pub struct CollageOptions {
     pub tag: TagCode,
     /// What to do with stray pixels.
     pub strays: StrayPolicy,
+    /// How the caller names the settings a stray report suggests.
+    pub hints: StrayHints,
 }
 
+/// The names, in the caller's terms, of the settings a stray report points to (a command line
+/// gives its flags), so this crate's messages name what the user can actually change.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StrayHints {
+    /// What treats strays as background ([`StrayPolicy::Background`]), e.g. `--ignore-strays`.
+    pub ignore: &'static str,
+    /// What sets the tag width ([`TagCode`]), e.g. `--tag-bits`.
+    pub tag_bits: &'static str,
+}
+
+impl Default for StrayHints {
+    fn default() -> Self {
+        Self { ignore: "the stray policy Background", tag_bits: "the tag width" }
+    }
+}
+
+/// An unknown id with at least this many pixels is a solid block (a view without its ray file),
+/// not the noise an antialiased edge makes.
+pub const SOLID_BLOCK: usize = 64;
+
 /// Stray pixels found in a collage.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct StrayReport {
     /// Number of stray pixels.
     pub count: usize,
@@ -52,6 +74,13 @@ pub struct StrayReport {
     pub unknown_ids: BTreeMap<u32, usize>,
     /// The first few stray pixels in raster order, as (x, y).
     pub first: Vec<(u32, u32)>,
+    /// Non-background pixels in all (strays included): when nearly all are strays, the tag
+    /// width is the likely cause.
+    pub foreground: usize,
+    /// The policy the collage was read with (a report of ignored strays suggests no remedy).
+    pub policy: StrayPolicy,
+    /// How to name the settings the report suggests.
+    pub hints: StrayHints,
 }
 
 impl StrayReport {
@@ -73,6 +102,38 @@ impl StrayReport {
     }
 }
 
+impl Default for StrayReport {
+    fn default() -> Self {
+        Self::new(CollageOptions::default())
+    }
+}
+
+impl StrayReport {
+    /// An empty report for a collage read with `options`.
+    pub fn new(options: CollageOptions) -> Self {
+        Self {
+            count: 0,
+            zero_id: 0,
+            unknown_ids: BTreeMap::new(),
+            first: Vec::new(),
+            foreground: 0,
+            policy: options.strays,
+            hints: options.hints,
+        }
+    }
+
+    /// True when nearly every non-background pixel is a stray (at least 90 %, of a collage
+    /// with some size): the views were tagged with another tag width than the one given.
+    pub fn nearly_all(&self) -> bool {
+        self.foreground >= 16 && self.count * 10 >= self.foreground * 9
+    }
+
+    /// The unknown ids with a solid block of pixels ([`SOLID_BLOCK`] or more).
+    pub fn solid_ids(&self) -> Vec<u32> {
+        self.unknown_ids.iter().filter(|&(_, &n)| n >= SOLID_BLOCK).map(|(&id, _)| id).collect()
+    }
+}
+
 impl fmt::Display for StrayReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{} non-background pixel(s) carry no usable camera id (", self.count)?;
@@ -90,11 +151,37 @@ impl fmt::Display for StrayReport {
         if self.count > self.first.len() {
             write!(f, ", …")?;
         }
-        write!(
-            f,
-            ": probably an antialiased selection edge — cut the collage with hard-edged \
-             selections, or choose the policy that treats such pixels as background"
-        )
+        // The likely cause, by the shape of the report.
+        let solid = self.solid_ids();
+        if self.nearly_all() {
+            write!(
+                f,
+                ": nearly every non-background pixel ({} of {}) decodes to no usable camera, so the \
+                 views were probably tagged with another tag width: give the same {} as when they \
+                 were rendered",
+                self.count, self.foreground, self.hints.tag_bits
+            )?;
+        } else if !solid.is_empty() {
+            let ids: Vec<String> = solid.iter().map(u32::to_string).collect();
+            write!(
+                f,
+                ": camera(s) {} cover whole areas but have no ray file for this frame: render their \
+                 views with the lens writer into the rays folder (or check the frame number)",
+                ids.join(", ")
+            )?;
+            if self.count > solid.iter().map(|id| self.unknown_ids[id]).sum::<usize>() {
+                write!(f, "; the other strays are probably an antialiased selection edge")?;
+            }
+        } else {
+            write!(
+                f,
+                ": probably an antialiased selection edge — cut the collage with hard-edged selections"
+            )?;
+        }
+        if self.policy == StrayPolicy::Refuse {
+            write!(f, ", or give {} to treat such pixels as background", self.hints.ignore)?;
+        }
+        Ok(())
     }
 }
 
@@ -180,7 +267,7 @@ impl Collage {
             return Err(MccError::image(path, "the collage is empty (0 pixels)"));
         }
         let mut ids = Vec::with_capacity(n);
-        let mut strays = StrayReport::default();
+        let mut strays = StrayReport::new(options);
         let code = options.tag;
         // (colour, alpha is 0) → (id, stray): colours come in runs, so remember the last answer
         // instead of looking the id up in `known` for every pixel.
@@ -197,6 +284,9 @@ impl Collage {
                     (id, stray)
                 }
             };
+            if id != 0 || stray {
+                strays.foreground += 1;
+            }
             if stray {
                 let k = ids.len() as u32;
                 strays.add(k % width, k / width, id);
@@ -250,7 +340,7 @@ impl Collage {
             }
         }
         if !strays.is_empty() && options.strays == StrayPolicy::Refuse {
-            return Err(MccError::StrayPixels { path: path.into(), report: strays });
+            return Err(MccError::StrayPixels { path: path.into(), report: Box::new(strays) });
         }
         Ok((Self { width, height, ids }, strays))
     }
@@ -325,6 +415,45 @@ mod tests {
         let MccError::StrayPixels { report, .. } = &err else { panic!("{err}") };
         assert_eq!((report.count, report.first.len()), (100, STRAY_LOCATIONS));
         assert!(err.to_string().contains(", …"));
+    }
+
+    #[test]
+    fn stray_messages_name_the_likely_cause_and_the_remedy() {
+        let code = TagCode::default();
+        let hints = StrayHints { ignore: "--ignore-strays", tag_bits: "--tag-bits" };
+        let refuse = CollageOptions { hints, ..Default::default() };
+        let ignore = CollageOptions { strays: StrayPolicy::Background, ..refuse };
+        let decode = |img: RgbImage, options| {
+            let img = DynamicImage::ImageRgb8(img);
+            Collage::decode(&img, Path::new("c.png"), Some(&known(&[1])), options)
+        };
+        // A few blended pixels at a cut: the edge is blamed, the flag named.
+        let mut edge = RgbImage::from_pixel(20, 20, Rgb(code.encode([90, 90, 90], 1).unwrap()));
+        edge.put_pixel(3, 3, Rgb([100, 100, 100]));
+        let msg = decode(edge.clone(), refuse).unwrap_err().to_string();
+        assert!(
+            msg.contains("antialiased selection edge")
+                && msg.ends_with("give --ignore-strays to treat such pixels as background"),
+            "{msg}"
+        );
+        // Once the strays are ignored, the warning suggests nothing.
+        let (_, report) = decode(edge, ignore).unwrap();
+        assert!(!report.to_string().contains("--ignore-strays"), "{report}");
+        // A solid block of a camera without a ray file is that, not an edge.
+        let block = RgbImage::from_fn(20, 20, |x, _| {
+            Rgb(code.encode([90, 90, 90], if x < 10 { 1 } else { 5 }).unwrap())
+        });
+        let msg = decode(block, refuse).unwrap_err().to_string();
+        assert!(
+            msg.contains("camera(s) 5 cover whole areas but have no ray file")
+                && !msg.contains("antialiased"),
+            "{msg}"
+        );
+        // Nearly every pixel a stray: the tag width is wrong (views tagged with 3 bits, read with 2).
+        let wide = TagCode::new(3).unwrap();
+        let other = RgbImage::from_pixel(20, 20, Rgb(wide.encode([90, 90, 90], 9).unwrap()));
+        let msg = decode(other, refuse).unwrap_err().to_string();
+        assert!(msg.contains("another tag width: give the same --tag-bits"), "{msg}");
     }
 
     #[test]

@@ -40,8 +40,8 @@ impl LabelMap {
 }
 
 /// Composes a collage from `labels` (RGBA: alpha 0 or black is background) and the tagged views
-/// (camera id → image, all the labels' size). Refuses a label colour that names no camera and a
-/// camera without a view, naming the first pixel concerned.
+/// (camera id → image, all the labels' size). Refuses label colours that name no camera and
+/// cameras without a view, with the count, the reasons and the first few pixels concerned.
 pub fn compose(labels: &RgbaImage, map: &LabelMap, views: &BTreeMap<u32, RgbImage>) -> Result<RgbImage> {
     let (w, h) = labels.dimensions();
     for (id, view) in views {
@@ -54,26 +54,61 @@ pub fn compose(labels: &RgbaImage, map: &LabelMap, views: &BTreeMap<u32, RgbImag
         }
     }
     let mut out = RgbImage::new(w, h);
+    let mut bad = BadLabels::default();
     for (x, y, p) in labels.enumerate_pixels() {
         let [r, g, b, a] = p.0;
         if a == 0 || [r, g, b] == [0, 0, 0] {
             continue;
         }
-        let Some(id) = map.camera([r, g, b]) else {
-            return Err(MccError::input(
-                "label image",
-                format!("pixel ({x}, {y}) has the colour #{r:02x}{g:02x}{b:02x}, which names no camera"),
-            ));
-        };
-        let Some(view) = views.get(&id) else {
-            return Err(MccError::input(
-                "label image",
-                format!("pixel ({x}, {y}) asks for camera {id}, which has no tagged view"),
-            ));
-        };
-        out.put_pixel(x, y, Rgb(view.get_pixel(x, y).0));
+        match map.camera([r, g, b]) {
+            None => bad.add(format!("the colour #{r:02x}{g:02x}{b:02x}, which names no camera"), x, y),
+            Some(id) => match views.get(&id) {
+                None => bad.add(format!("camera {id}, which has no tagged view"), x, y),
+                Some(view) => out.put_pixel(x, y, Rgb(view.get_pixel(x, y).0)),
+            },
+        }
+    }
+    if bad.count > 0 {
+        return Err(MccError::input("label image", bad.to_string()));
     }
     Ok(out)
+}
+
+/// Label pixels that name no usable camera: how many, why, and where the first few are.
+#[derive(Default)]
+struct BadLabels {
+    count: usize,
+    /// Per reason (colour or camera), its pixel count, in order of first appearance.
+    reasons: Vec<(String, usize)>,
+    first: Vec<(u32, u32)>,
+}
+
+impl BadLabels {
+    fn add(&mut self, reason: String, x: u32, y: u32) {
+        self.count += 1;
+        match self.reasons.iter_mut().find(|(r, _)| *r == reason) {
+            Some((_, n)) => *n += 1,
+            None => self.reasons.push((reason, 1)),
+        }
+        if self.first.len() < crate::collage::STRAY_LOCATIONS {
+            self.first.push((x, y));
+        }
+    }
+}
+
+impl std::fmt::Display for BadLabels {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let reasons: Vec<String> = self.reasons.iter().map(|(r, n)| format!("{n} with {r}")).collect();
+        let at: Vec<String> = self.first.iter().map(|(x, y)| format!("({x}, {y})")).collect();
+        let more = if self.count > self.first.len() { ", …" } else { "" };
+        write!(
+            f,
+            "{} pixel(s) name no usable camera ({}); first at {}{more}",
+            self.count,
+            reasons.join("; "),
+            at.join(", ")
+        )
+    }
 }
 
 /// [`compose`] from files: the labels at `labels`, the tagged views `frameFFFFcameraCC.png` of
@@ -203,5 +238,26 @@ mod tests {
             .to_string();
         assert!(err.contains("#ff0000"), "{err}");
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn bad_label_pixels_are_counted_and_located() {
+        let map = LabelMap::Colours([([255, 0, 0], 1), ([0, 0, 255], 4)].into_iter().collect());
+        let views = BTreeMap::from([(1, RgbImage::new(6, 4))]);
+        // Column 5 an unknown colour (4 pixels), row 3 camera 4 without a view (5 pixels).
+        let labels = RgbaImage::from_fn(6, 4, |x, y| match (x, y) {
+            (5, _) => Rgba([9, 9, 9, 255]),
+            (_, 3) => Rgba([0, 0, 255, 255]),
+            _ => Rgba([255, 0, 0, 255]),
+        });
+        let err = compose(&labels, &map, &views).unwrap_err().to_string();
+        for want in [
+            "9 pixel(s) name no usable camera",
+            "4 with the colour #090909, which names no camera",
+            "5 with camera 4, which has no tagged view",
+            "first at (5, 0), (5, 1), (5, 2), (0, 3), (1, 3), (2, 3), (3, 3), (4, 3), …",
+        ] {
+            assert!(err.contains(want), "{err:?} lacks {want:?}");
+        }
     }
 }

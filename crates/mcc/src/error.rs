@@ -49,8 +49,8 @@ pub enum MccError {
     StrayPixels {
         /// The collage file.
         path: PathBuf,
-        /// How many, which ids, and where the first few are.
-        report: StrayReport,
+        /// How many, which ids, and where the first few are (boxed: the error stays small).
+        report: Box<StrayReport>,
     },
     /// A layered collage (OpenRaster, PSD) is malformed or uses what this reader does not
     /// support; `entry` says where: an archive entry (`stack.xml`, `data/layer1.png`), a layer

@@ -27,7 +27,7 @@ mod test_util;
 /// callers name the same types.
 pub use image;
 
-pub use collage::{Collage, CollageOptions, StrayPolicy, StrayReport};
+pub use collage::{Collage, CollageOptions, StrayHints, StrayPolicy, StrayReport};
 pub use error::{MccError, Result};
 pub use inbetween::{InbetweenMode, Keys};
 pub use lens_reader::LensReader;

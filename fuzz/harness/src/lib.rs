@@ -140,7 +140,7 @@ pub fn collage(data: &[u8]) {
     let bits = 1 + data.len() as u8 % 8;
     let tag = TagCode::new(bits).expect("1..=8 bits is a valid tag code");
     for (known, strays) in [(None, StrayPolicy::Refuse), (Some(&known), StrayPolicy::Background)] {
-        match Collage::decode(&image, &path, known, CollageOptions { tag, strays }) {
+        match Collage::decode(&image, &path, known, CollageOptions { tag, strays, ..Default::default() }) {
             Ok((c, report)) => {
                 check_collage(&c, &image, known);
                 let _ = report.to_string();
@@ -178,6 +178,45 @@ fn check_regions(r: &Regions, image: &DynamicImage) {
         let _ = info.to_string();
     }
     assert!(r.index.iter().all(|&i| (i as usize) < r.count()));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Layered collages (crates/mcc/src/layers/): OpenRaster archives and PSD documents.
+
+/// Layered collages: the bytes are read both as `collage.ora` and as `collage.psd` (each reader
+/// tells its format by content first, so a zip lands in the OpenRaster reader and `8BPS` in the
+/// PSD reader whatever the name; the other name sends the same bytes to the other reader). An
+/// accepted file gives a collage of its canvas size naming only known cameras, and regions
+/// covering it.
+pub fn layers(data: &[u8]) {
+    let dir = scratch("layers");
+    let known: BTreeSet<u32> = [1, 2, 3].into_iter().collect();
+    for name in ["collage.ora", "collage.psd"] {
+        let path = dir.join(name);
+        write(&path, data);
+        let names = mcc::layers::CameraNames::ids(Some(known.clone()));
+        match mcc::layers::open_collage(&path, None, &names, CollageOptions::default()) {
+            Ok(opened) => {
+                let c = &opened.collage;
+                assert_eq!(c.ids.len() as u64, c.width as u64 * c.height as u64);
+                assert!(c.cameras().is_subset(&known), "a layer painted an unknown camera");
+                assert!(opened.strays.is_empty(), "a layered collage reported strays");
+                assert_eq!((opened.regions.width, opened.regions.height), (c.width, c.height));
+                assert!(opened.regions.index.iter().all(|&i| (i as usize) < opened.regions.count()));
+                for note in &opened.notes {
+                    assert!(!note.is_empty());
+                }
+            }
+            Err(e) => {
+                let message = e.to_string();
+                assert!(message.contains(name), "the error does not name the file: {message}");
+            }
+        }
+        // The same bytes as a layered region image of a small collage.
+        if let Err(e) = mcc::layers::load_regions(&path, 6, 4) {
+            let _ = e.to_string();
+        }
+    }
 }
 
 // ---------------------------------------------------------------------------------------------

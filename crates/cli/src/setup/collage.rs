@@ -5,19 +5,21 @@
 use anyhow::bail;
 use clap::Args;
 use mcc::job::{CollageFiles, RemapJob, Remapped};
-use mcc::{CollageOptions, RemapConfig, StrayPolicy, TagCode};
+use mcc::{CollageOptions, RemapConfig, StrayHints, StrayPolicy, TagCode};
 use std::path::PathBuf;
 
 /// Collage inputs and remapper settings, shared by `remap` and `rerender`.
 #[derive(Args, Debug, Clone)]
 pub struct CollageInputArgs {
-    /// The collage image (8-bit RGB/RGBA cut from the tagged views).
+    /// The collage: an 8-bit RGB/RGBA image cut from the tagged views, or a layered OpenRaster
+    /// (.ora) or Photoshop (.psd) file whose visible layers are named after their cameras.
     #[arg(long)]
     pub collage: Option<PathBuf>,
     /// Directory holding the views' ray files (frameFFFFcameraCC.mcr or .txt).
     #[arg(long)]
     pub rays: Option<PathBuf>,
-    /// Region image (default: <collage-stem>-regions.png beside the collage, if present).
+    /// Region image, or layered file of region layers (default: the collage's "regions" layer
+    /// group, else <collage-stem>-regions.png beside the collage, if present).
     #[arg(long)]
     pub regions: Option<PathBuf>,
     /// How the collage is read and remapped.
@@ -65,6 +67,7 @@ impl RemapSettingsArgs {
         Ok(CollageOptions {
             tag: TagCode::new(self.tag_bits)?,
             strays: if self.ignore_strays { StrayPolicy::Background } else { StrayPolicy::Refuse },
+            hints: StrayHints { ignore: "--ignore-strays", tag_bits: "--tag-bits" },
         })
     }
 

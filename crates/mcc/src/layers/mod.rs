@@ -1,4 +1,4 @@
-//! Layered collages (docs/design.md §4.5, cut in an editor that keeps layers): a layer *is* a
+//! Layered collages (docs/design.md §4.8, cut in an editor that keeps layers): a layer *is* a
 //! camera, so no tag bits are needed. Each visible layer names its camera ([`naming`]); the
 //! layers are taken top to bottom and a pixel belongs to the topmost layer whose alpha there,
 //! times its opacity and its groups', is at least ½ — hard edges by rule, so a soft brush or a
@@ -280,6 +280,9 @@ fn is_regions_group(node: &Node) -> bool {
     matches!(node.kind, NodeKind::Group(_)) && node.name.trim().eq_ignore_ascii_case("regions")
 }
 
+/// What a layer paints, from the node and the label its groups pass down (see [`camera_label`]).
+type LabelFn<'a> = dyn Fn(&Node, Option<u32>) -> Result<Option<u32>> + 'a;
+
 /// A pixel no layer has taken yet.
 const UNCLAIMED: u32 = u32::MAX;
 
@@ -346,7 +349,7 @@ fn regions_from_nodes(
 fn paint(
     file: &mut dyn LayeredFile,
     nodes: &[Node],
-    label: &dyn Fn(&Node, Option<u32>) -> Result<Option<u32>>,
+    label: &LabelFn<'_>,
     notes: &mut Vec<String>,
 ) -> Result<Vec<u32>> {
     let (width, height) = (file.tree().width as usize, file.tree().height as usize);
@@ -373,7 +376,7 @@ impl Painter<'_> {
         node: &Node,
         opacity: f32,
         inherited: Option<u32>,
-        label: &dyn Fn(&Node, Option<u32>) -> Result<Option<u32>>,
+        label: &LabelFn<'_>,
         depth: usize,
     ) -> Result<()> {
         if !node.visible {
@@ -464,7 +467,8 @@ impl Painter<'_> {
 pub fn threshold(opacity: f32) -> Option<u16> {
     let opacity = f64::from(opacity);
     let half = f64::from(OPAQUE) / 2.0;
-    if !(opacity * f64::from(OPAQUE) >= half) {
+    // `None` also for a NaN opacity (no comparison holds).
+    if (opacity * f64::from(OPAQUE)).partial_cmp(&half).is_none_or(|o| o.is_lt()) {
         return None;
     }
     // The quotient is within an ulp of the answer; step to the exact least integer.

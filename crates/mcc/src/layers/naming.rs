@@ -1,4 +1,4 @@
-//! Which camera a layer is, from its name (docs/design.md §4.4: camera ids). Tried in this order, ignoring
+//! Which camera a layer is, from its name (docs/design.md §4.8). Tried in this order, ignoring
 //! case and surrounding spaces:
 //!
 //! 1. `background` (the layer `render --layers` writes, and every editor's default name): the
@@ -173,7 +173,7 @@ fn view_camera_name(path: &std::path::Path) -> Option<String> {
     use exr::meta::attribute::AttributeValue;
     let meta = exr::meta::MetaData::read_from_file(path, false).ok()?;
     meta.headers.iter().find_map(|h| {
-        match h.own_attributes.other.iter().find(|(k, _)| k.to_string() == "mcctrace/camera") {
+        match h.own_attributes.other.iter().find(|(k, _)| **k == *"mcctrace/camera") {
             Some((_, AttributeValue::Text(t))) => Some(t.to_string()),
             _ => None,
         }

@@ -391,11 +391,13 @@ fn encode(views: &[ViewLayer<'_>]) -> std::result::Result<Vec<u8>, String> {
     ));
     // The merged image is the top view: it covers the whole canvas.
     entries.push(("mergedimage.png".to_owned(), png(&DynamicImage::ImageRgb8(top.image.clone()))?));
-    let thumb = image::imageops::thumbnail(
-        top.image,
-        (width * 256 / width.max(height)).max(1),
-        (height * 256 / width.max(height)).max(1),
-    );
+    // At most 256 pixels on the longer side (as the specification asks), never enlarged.
+    let side = width.max(height);
+    let thumb = if side <= 256 {
+        top.image.clone()
+    } else {
+        image::imageops::thumbnail(top.image, (width * 256 / side).max(1), (height * 256 / side).max(1))
+    };
     entries.push(("Thumbnails/thumbnail.png".to_owned(), png(&DynamicImage::ImageRgb8(thumb))?));
 
     let mut zip = zip::ZipWriter::new(Cursor::new(Vec::new()));

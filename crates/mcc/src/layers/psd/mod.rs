@@ -48,6 +48,9 @@ struct PixelLayer {
     colour: Vec<Range<usize>>,
 }
 
+/// A layer's transparency channel (if any) and colour channels, as byte ranges of the file.
+type Channels = (Option<Range<usize>>, Vec<Range<usize>>);
+
 /// A bounds-checked reader over part of the file; errors name the part.
 struct Cursor<'a> {
     bytes: &'a [u8],
@@ -339,7 +342,7 @@ fn read_record(c: &mut Cursor<'_>) -> Result<Record> {
         match &key {
             b"luni" => {
                 let chars = block.u32()? as usize;
-                let units = block.take(chars.checked_mul(2).unwrap_or(usize::MAX))?;
+                let units = block.take(chars.saturating_mul(2))?;
                 let units: Vec<u16> =
                     units.chunks_exact(2).map(|u| u16::from_be_bytes([u[0], u[1]])).collect();
                 name = String::from_utf16_lossy(&units).trim_end_matches('\0').to_owned();
@@ -367,7 +370,7 @@ fn build_tree(
     width: u32,
     height: u32,
     records: Vec<Record>,
-    channels: Vec<(Option<Range<usize>>, Vec<Range<usize>>)>,
+    channels: Vec<Channels>,
 ) -> Result<(LayerTree, Vec<PixelLayer>)> {
     // Open groups, innermost last: (its node, its children so far).
     let mut stack: Vec<(Node, Vec<Node>)> = Vec::new();

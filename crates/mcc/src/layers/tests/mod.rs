@@ -456,7 +456,31 @@ fn malformed_openraster_files_are_refused_by_entry() {
     );
     // A zip bomb: 64 MiB of spaces deflate to a few kilobytes.
     let bomb = format!("{}{}", " ".repeat(64 << 20), one_layer);
-    ora_error(&dir, "bomb.ora", |p| write_zip(p, &mime, &bomb, &[]), &["stack.xml", "more than"]);
+    ora_error(
+        &dir,
+        "bomb.ora",
+        |p| write_zip(p, &mime, &bomb, &[]),
+        &["stack.xml", "claims 67108", "more than 4194304"],
+    );
+    // The same bomb lying about its size (100 bytes in both headers): the zip crate stops at the
+    // declared size (and the read limit would stop it at 4 MiB anyway).
+    ora_error(
+        &dir,
+        "liar.ora",
+        |p| {
+            write_zip(p, &mime, &bomb, &[]);
+            let mut bytes = std::fs::read(p).unwrap();
+            let size = (bomb.len() as u32).to_le_bytes();
+            let at: Vec<usize> =
+                bytes.windows(4).enumerate().filter(|(_, w)| *w == size).map(|(k, _)| k).collect();
+            assert_eq!(at.len(), 2, "the local and central headers each hold the size once");
+            for k in at {
+                bytes[k..k + 4].copy_from_slice(&100u32.to_le_bytes());
+            }
+            std::fs::write(p, bytes).unwrap();
+        },
+        &["stack.xml: cannot read it", "larger than its declared uncompressed size"],
+    );
     ora_error(
         &dir,
         "offset.ora",
