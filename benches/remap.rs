@@ -8,7 +8,10 @@
 //! read one at a time) at 4K, so nothing the parent allocated is counted.
 //!
 //! Targets: remap ≤ 1 s at 1080p with 8 cameras, growing linearly with the pixel count; ≤ 4 GiB
-//! peak for a 4K collage with 16 cameras; a 1080p binary ray file loads in ≤ 30 ms.
+//! peak for a 4K collage with 16 cameras; a 1080p binary ray file loads in ≤ 30 ms. The seamless
+//! blend (issue 28): ≤ 2× the column's remap time at 1080p with 8 cameras and regions (rounds of
+//! both, interleaved), and seam ratio p99 ≤ 3, max ≤ 20 on the café's demo collage, a ring and two
+//! blobs of one view (section `seams`; docs/design.md §5.8).
 
 use glam::{UVec2, Vec2, Vec3};
 use mcc::collage::Collage;
@@ -16,7 +19,8 @@ use mcc::image;
 use mcc::job::CollageFiles;
 use mcc::ray_file::{RayFile, RayFormat, StoredRay};
 use mcc::regions::Regions;
-use mcc::remap::{RemapConfig, SourceRays, remap_sources};
+use mcc::remap::{RemapConfig, SourceRays, remap, remap_sources};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -247,6 +251,9 @@ fn main() {
     if wanted("remap") {
         remap_scaling();
     }
+    if wanted("seams") {
+        seam_figures(&dir);
+    }
     if wanted("load") {
         ray_file_loading(&dir);
     }
@@ -262,21 +269,149 @@ fn main() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// The remapper proper (rays already gathered), 8 cameras with regions, at three sizes.
+/// The remapper proper (rays already gathered), 8 cameras with regions, at three sizes, in both
+/// blends: rounds alternate the column's and the seamless blend, so both see the same load; the
+/// ratio is the median of the rounds' ratios (wall and CPU time).
 fn remap_scaling() {
     for (label, w, h, runs) in [("480p", 854, 480, 7), ("1080p", 1920, 1080, 5), ("4K", 3840, 2160, 3)] {
         let collage = synthetic_collage(w, h, 8);
         let regions = Regions::from_image(&image::DynamicImage::ImageRgb8(synthetic_regions(w, h)));
         let src = sources(&collage, 8);
         let bg = collage.ids.iter().filter(|&&id| id == 0).count() as f64 / collage.ids.len() as f64;
-        let t =
-            time(runs, || remap_sources(&collage, &regions, &src, 0, &RemapConfig::GLASSNER).expect("remap"));
-        row(
-            &format!("remap {label} {w}x{h}, 8 cams, 3 regions, {:.0}% bg", bg * 100.0),
-            &t,
-            1e6,
-            (w * h) as f64,
+        let mut rounds: Vec<[Timing; 2]> = Vec::new();
+        for _ in 0..runs {
+            let run = |config: &RemapConfig| {
+                time(1, || remap_sources(&collage, &regions, &src, 0, config).expect("remap"))
+            };
+            rounds.push([run(&RemapConfig::GLASSNER), run(&RemapConfig::SEAMLESS)]);
+        }
+        for (k, name) in ["remap", "remap seamless"].iter().enumerate() {
+            let mut wall: Vec<f64> = rounds.iter().map(|r| r[k].best).collect();
+            wall.sort_by(f64::total_cmp);
+            let cpu = rounds.iter().map(|r| r[k].cpu).sum::<f64>() / runs as f64;
+            let t = Timing { best: wall[0], median: wall[runs / 2], cpu };
+            row(
+                &format!("{name} {label} {w}x{h}, 8 cams, 3 regions, {:.0}% bg", bg * 100.0),
+                &t,
+                1e6,
+                (w * h) as f64,
+            );
+        }
+        let median_ratio = |f: fn(&Timing) -> f64| {
+            let mut r: Vec<f64> = rounds.iter().map(|r| f(&r[1]) / f(&r[0])).collect();
+            r.sort_by(f64::total_cmp);
+            r[runs / 2]
+        };
+        println!(
+            "{:<46} seamless / glassner: {:.2}x wall, {:.2}x cpu (median of {runs} rounds)",
+            "",
+            median_ratio(|t| t.best),
+            median_ratio(|t| t.cpu)
         );
+    }
+}
+
+/// The café's two facing views at the demo's 480x270: every pixel's eye ray, as the lens writer
+/// records it (no rendering needed), camera 1 `left` and camera 2 `right`.
+fn cafe_views(dir: &Path, w: u32, h: u32) -> Option<BTreeMap<u32, RayFile>> {
+    use tracer::lens::{FrameInfo, LensChain};
+    use tracer::scene::{CameraSelector, Scene};
+    let scene = Scene::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cafe/cafe.gltf")).ok()?;
+    let mut files = BTreeMap::new();
+    for (id, name) in [(1u32, "left"), (2, "right")] {
+        let camera = scene.camera(&CameraSelector::Name(name.into())).ok()?.build(UVec2::new(w, h)).ok()?;
+        let mut writer = LensChain::new();
+        writer.push(Box::new(mcc::LensWriter::new(dir, RayFormat::Binary)));
+        let info = FrameInfo { frame: 0, camera_id: id, shutter: (0.0, 0.0) };
+        writer.begin_frame(camera.as_ref(), info).ok()?;
+        writer.end_frame(camera.as_ref(), info).ok()?;
+        files
+            .insert(id, RayFile::read(&dir.join(mcc::names::view_rays_name(0, id, RayFormat::Binary))).ok()?);
+    }
+    Some(files)
+}
+
+/// The three collages of the seam targets on a `w × h` picture: the demo's (its label mask, red =
+/// camera 1, green = camera 2, and its region image), a ring of camera 1 inside a frame of camera
+/// 2, and two blobs of camera 1 above a strip of camera 2.
+fn seam_collages(w: u32, h: u32) -> Vec<(&'static str, Collage, Regions)> {
+    let cafe = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cafe");
+    let mut out = Vec::new();
+    if let (Ok(mask), Ok(regions)) = (
+        mcc::png::read_image(&cafe.join("collage-mask.png")),
+        mcc::png::read_image(&cafe.join("collage-mask-regions.png")),
+    ) && (mask.width(), mask.height()) == (w, h)
+    {
+        let ids = mask
+            .to_rgb8()
+            .pixels()
+            .map(|p| match p.0 {
+                [255, 0, 0] => 1,
+                [0, 255, 0] => 2,
+                _ => 0,
+            })
+            .collect();
+        out.push((
+            "demo (mask + regions)",
+            Collage::new(w, h, ids).expect("collage"),
+            Regions::from_image(&regions),
+        ));
+    }
+    let (fw, fh) = (w as f32, h as f32);
+    let ring = (0..w * h)
+        .map(|p| {
+            let (x, y) = ((p % w) as f32 + 0.5 - fw / 2.0, (p / w) as f32 + 0.5 - fh / 2.0);
+            let r = (x * x + y * y).sqrt() / fh;
+            let frame = (x / (0.47 * fw)).powi(2) + (y / (0.47 * fh)).powi(2) > 1.0;
+            if (0.17..0.37).contains(&r) {
+                1
+            } else if frame {
+                2
+            } else {
+                0
+            }
+        })
+        .collect();
+    out.push(("ring of camera 1", Collage::new(w, h, ring).expect("collage"), Regions::single(w, h)));
+    let blobs = (0..w * h)
+        .map(|p| {
+            let (x, y) = (((p % w) as f32 + 0.5) / fw, ((p / w) as f32 + 0.5) / fh);
+            let d1 = ((x - 0.25) * fw).hypot((y - 0.42) * fh) / fh;
+            let d2 = ((x - 0.72) * fw).hypot((y - 0.45) * fh) / fh;
+            if d1 < 0.26 || d2 < 0.2 {
+                1
+            } else if y > 0.9 {
+                2
+            } else {
+                0
+            }
+        })
+        .collect();
+    out.push(("two blobs of camera 1", Collage::new(w, h, blobs).expect("collage"), Regions::single(w, h)));
+    out
+}
+
+/// Seam ratio and remap time of both blends on the café collages.
+fn seam_figures(dir: &Path) {
+    let (w, h) = (480, 270);
+    let views = dir.join("cafe-views");
+    std::fs::create_dir_all(&views).expect("bench dir");
+    let Some(files) = cafe_views(&views, w, h) else {
+        println!("{:<46} (skipped: cannot load the café scene)", "seams");
+        return;
+    };
+    println!(
+        "\n{:<24} {:<9} {:>7} {:>7} {:>7} {:>9}",
+        "café collage 480x270", "blend", "p99", "p99.9", "max", "best ms"
+    );
+    for (name, collage, regions) in seam_collages(w, h) {
+        for (blend, preset) in [("glassner", RemapConfig::GLASSNER), ("seamless", RemapConfig::SEAMLESS)] {
+            let t = time(3, || remap(&collage, &regions, &files, 0, &preset).expect("remap"));
+            let config = RemapConfig { report: true, ..preset };
+            let s =
+                remap(&collage, &regions, &files, 0, &config).expect("remap").seams.expect("seam figures");
+            println!("{name:<24} {blend:<9} {:>7.2} {:>7.2} {:>7.1} {:>9.1}", s.p99, s.p999, s.max, t.best);
+        }
     }
 }
 

@@ -21,6 +21,7 @@ mod lens_shaders;
 mod mcc_pipeline;
 mod robustness;
 mod scene_features;
+mod seamless_blend;
 mod stress;
 mod stress_mcc;
 

@@ -25,9 +25,14 @@ pub struct CollageInputArgs {
     /// How the collage is read and remapped.
     #[command(flatten)]
     pub settings: RemapSettingsArgs,
-    /// Write debug pictures (each camera's edges and weights, the dominant camera) here.
+    /// Write debug pictures (each camera's edges and weights, the dominant camera, a map of the
+    /// seam ratio) here.
     #[arg(long)]
     pub debug_dir: Option<PathBuf>,
+    /// Report the seam ratio of the remapped rays (p99, p99.9 and maximum over the background
+    /// pixels; about 1 where the blend turns smoothly, large at a tear).
+    #[arg(long)]
+    pub report: bool,
 }
 
 /// Collage-reading and remapper settings, shared by `remap`, `rerender` and `keys`.
@@ -49,6 +54,11 @@ pub struct RemapSettingsArgs {
     /// Control value of the remapper's ease curve (0.5: no easing).
     #[arg(long, default_value_t = RemapConfig::GLASSNER.ease_control, value_parser = crate::args::ease)]
     pub ease: f32,
+    /// Seamless blend: removes the seams of the column's blend (tears at region boundaries,
+    /// jumps between separate pieces of one camera) by blending smooth extensions of each
+    /// camera's edge rays; camera pixels keep their rays. Ignores --blur1, --blur2 and --ease.
+    #[arg(long)]
+    pub seamless: bool,
 }
 
 impl RemapSettingsArgs {
@@ -63,11 +73,12 @@ impl RemapSettingsArgs {
 
     /// The remapper's settings.
     pub fn config(&self) -> RemapConfig {
+        let preset = if self.seamless { RemapConfig::SEAMLESS } else { RemapConfig::GLASSNER };
         RemapConfig {
             first_blur_radius: self.blur1,
             second_blur_radius: self.blur2,
             ease_control: self.ease,
-            ..RemapConfig::GLASSNER
+            ..preset
         }
     }
 
@@ -95,15 +106,25 @@ impl CollageInputArgs {
         let (Some(collage), Some(rays)) = (&self.collage, &self.rays) else {
             bail!("give both --collage and --rays (or --lens FILE for rerender)");
         };
-        let job = self.settings.job(collage.clone(), self.regions.clone(), rays.clone(), frame)?;
+        let mut job = self.settings.job(collage.clone(), self.regions.clone(), rays.clone(), frame)?;
+        job.config.report = self.report;
         Ok(RemapJob { debug_dir: self.debug_dir.clone(), ..job })
     }
 }
 
-/// Runs `job`, then (unless quiet) shows its warnings, its time and its debug pictures.
+/// Runs `job`, then (unless quiet) shows its warnings, its time and its debug pictures; the
+/// seam ratio when it was asked for (even when quiet).
 pub fn remap(job: &RemapJob, quiet: bool) -> anyhow::Result<Remapped> {
     let start = std::time::Instant::now();
     let done = job.run()?;
+    if job.config.report {
+        match &done.output.seams {
+            Some(seams) => println!("{}: {seams}", job.input.collage.display()),
+            None => {
+                println!("{}: no seam ratio (no background pixels, or no pitch)", job.input.collage.display())
+            }
+        }
+    }
     if !quiet {
         let collage = job.input.collage.display();
         if let Some(found) = &done.regions_found {

@@ -183,7 +183,8 @@ mod tests {
         let done = job.run().unwrap();
         assert!(matches!(&done.output.warnings[..], [RemapWarning::StraysIgnored(r)] if r.count == 1));
         assert_eq!(bits(done.output.rays.get(0, 0)), bits(view(1, 20, 12).get(0, 0)));
-        assert_eq!(done.debug_pictures.len(), 5);
+        assert_eq!(done.debug_pictures.len(), 6);
+        assert!(dir.join("debug/debug-frame0007-seams.png").is_file());
         assert_eq!(done.regions_found, None);
         assert!(done.debug_pictures.iter().all(|p| p.is_file()));
         assert!(dir.join("debug/debug-frame0007-camera02-weights.png").is_file());

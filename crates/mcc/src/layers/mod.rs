@@ -1,4 +1,4 @@
-//! Layered collages (docs/design.md §4.8, cut in an editor that keeps layers): a layer *is* a
+//! Layered collages (docs/layers.md, cut in an editor that keeps layers): a layer *is* a
 //! camera, so no tag bits are needed. Each visible layer names its camera ([`naming`]); the
 //! layers are taken top to bottom and a pixel belongs to the topmost layer whose alpha there,
 //! times its opacity and its groups', is at least ½ — hard edges by rule, so a soft brush or a

@@ -1,4 +1,4 @@
-//! Which camera a layer is, from its name (docs/design.md §4.8). Tried in this order, ignoring
+//! Which camera a layer is, from its name (docs/layers.md). Tried in this order, ignoring
 //! case and surrounding spaces:
 //!
 //! 1. `background` (the layer `render --layers` writes, and every editor's default name): the

@@ -73,24 +73,27 @@ pub(crate) fn remapped_rays(
             };
         }
     });
-    let dominant = dominant.then(|| {
-        (0..cam.len())
-            .into_par_iter()
-            .map(|p| {
-                if cam[p] != 0 {
-                    return cam[p] - 1;
+    (rays, dominant.then(|| self::dominant(cam, planes)))
+}
+
+/// The camera index with the largest weight at every pixel (ties to the smallest id; a camera
+/// pixel's own camera).
+pub(crate) fn dominant(cam: &[u32], planes: &[Vec<f32>]) -> Vec<u32> {
+    (0..cam.len())
+        .into_par_iter()
+        .map(|p| {
+            if cam[p] != 0 {
+                return cam[p] - 1;
+            }
+            let mut best = 0;
+            for k in 1..planes.len() {
+                if planes[k][p] > planes[best][p] {
+                    best = k;
                 }
-                let mut best = 0;
-                for k in 1..planes.len() {
-                    if planes[k][p] > planes[best][p] {
-                        best = k;
-                    }
-                }
-                best as u32
-            })
-            .collect()
-    });
-    (rays, dominant)
+            }
+            best as u32
+        })
+        .collect()
 }
 
 #[cfg(test)]

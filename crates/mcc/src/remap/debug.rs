@@ -1,6 +1,7 @@
 //! The remapper's debug pictures (docs/design.md §5.6): per camera an edge image and a weight
 //! image, and a false-colour map of which camera dominates each pixel. They show what steps 1–4
-//! decided, so a surprising rerender can be traced to an edge, a region or a weight.
+//! decided, so a surprising rerender can be traced to an edge, a region or a weight. A map of the
+//! seam ratio ([`super::seam`], docs/design.md §5.8) shows where the result tears.
 
 use crate::error::Result;
 use image::{DynamicImage, GrayImage, Luma, Rgb, RgbImage};
@@ -23,6 +24,8 @@ pub struct RemapDebug {
     pub weights: Vec<Vec<f32>>,
     /// The camera index with the largest weight per pixel.
     pub dominant: Vec<u32>,
+    /// The seam ratio of the result (`None` when there was nothing to measure).
+    pub seams: Option<super::SeamRatios>,
 }
 
 /// A distinct, stable colour per camera index (hues spaced by the golden angle).
@@ -78,8 +81,9 @@ impl RemapDebug {
         })
     }
 
-    /// Writes every picture into `dir` as `debug-frameFFFF-cameraCC-{edges,weights}.png` and
-    /// `debug-frameFFFF-dominant.png` (atomically); returns the paths written.
+    /// Writes every picture into `dir` as `debug-frameFFFF-cameraCC-{edges,weights}.png`,
+    /// `debug-frameFFFF-dominant.png` and `debug-frameFFFF-seams.png` (atomically); returns the
+    /// paths written.
     pub fn write_pngs(&self, dir: &Path, frame: u32) -> Result<Vec<PathBuf>> {
         let mut written = Vec::new();
         let mut write = |name: String, image: DynamicImage| -> Result<()> {
@@ -99,6 +103,9 @@ impl RemapDebug {
             )?;
         }
         write(format!("debug-frame{frame:04}-dominant.png"), DynamicImage::ImageRgb8(self.dominant_image()))?;
+        if let Some(seams) = &self.seams {
+            write(format!("debug-frame{frame:04}-seams.png"), DynamicImage::ImageRgb8(seams.image()))?;
+        }
         Ok(written)
     }
 }

@@ -9,6 +9,12 @@
 //! 5. [`burp`]: origins by weighted sum, directions by burp of slerps;
 //! 6. [`debug`]: optional pictures of the above.
 //!
+//! That is the column's blend, [`Blend::Glassner`], the default. [`Blend::Seamless`]
+//! ([`seamless`]) keeps steps 1 and 5 and every camera pixel's ray, but blends smooth per-camera
+//! ray fields ([`field`], solved by [`membrane`]) with weights whose region participation fades
+//! instead of switching: no tears at region boundaries or medial axes. [`seam`] measures tears
+//! (the seam ratio) in either mode's output.
+//!
 //! Memory: a camera pixel only ever needs its own camera's ray, and e_c(P) is always a pixel of
 //! camera c, so the remapper keeps a single merged plane of source rays ([`SourceRays`]: R_id(p)(p)
 //! at every camera pixel) instead of every camera's file; [`SourceRays::load`] reads the files one
@@ -18,11 +24,16 @@
 pub mod burp;
 pub mod debug;
 pub(crate) mod edges;
+pub(crate) mod field;
+pub(crate) mod membrane;
 pub(crate) mod nearest;
+pub mod seam;
+pub(crate) mod seamless;
 pub(crate) mod smooth;
 pub mod weights;
 
 pub use debug::RemapDebug;
+pub use seam::{SeamRatios, SeamSummary};
 
 use crate::collage::{Collage, StrayReport};
 use crate::error::{MccError, Result};
@@ -32,32 +43,66 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::fmt;
 use std::path::{Path, PathBuf};
 
+/// How background pixels blend the cameras.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Blend {
+    /// The column's method (docs/design.md §5): nearest edge rays, distance weights, blurs and ease.
+    #[default]
+    Glassner,
+    /// Smooth per-camera ray fields and fading region participation: removes the column's seams
+    /// (docs/design.md §5.8). Ignores the blur radii and the ease.
+    Seamless,
+}
+
 /// Remapper settings (docs/design.md §5.4); [`RemapConfig::GLASSNER`] is the default.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RemapConfig {
+    /// How background pixels blend the cameras.
+    pub blend: Blend,
     /// Radius of the first box blur (step 4a); 0 skips it.
     pub first_blur_radius: u32,
     /// Radius of the second box blur (step 4c); 0 skips it.
     pub second_blur_radius: u32,
     /// Control value g ∈ (0, 1) of the ease curve (step 4b); 0.5 is the identity.
     pub ease_control: f32,
-    /// Keep the debug data (edges, weights, dominant camera) in the output.
+    /// Seamless blend: width of the region participation fade, as a fraction of the picture's
+    /// shorter side.
+    pub region_fade: f32,
+    /// Keep the debug data (edges, weights, dominant camera, seam ratios) in the output.
     pub debug: bool,
+    /// Measure the seam ratio of the result ([`RemapOutput::seams`]; always with `debug`).
+    pub report: bool,
 }
 
 impl RemapConfig {
     /// The column's settings: blur radii 4 and 3, ease control 0.75.
-    pub const GLASSNER: Self =
-        Self { first_blur_radius: 4, second_blur_radius: 3, ease_control: 0.75, debug: false };
+    pub const GLASSNER: Self = Self {
+        blend: Blend::Glassner,
+        first_blur_radius: 4,
+        second_blur_radius: 3,
+        ease_control: 0.75,
+        region_fade: 0.1,
+        debug: false,
+        report: false,
+    };
     /// No smoothing at all: the raw weights of step 3 (for comparisons and tests).
     pub const UNSMOOTHED: Self =
-        Self { first_blur_radius: 0, second_blur_radius: 0, ease_control: 0.5, debug: false };
+        Self { first_blur_radius: 0, second_blur_radius: 0, ease_control: 0.5, ..Self::GLASSNER };
+    /// The seamless blend: smooth ray fields, region participation fading over a tenth of the
+    /// shorter side.
+    pub const SEAMLESS: Self = Self { blend: Blend::Seamless, ..Self::GLASSNER };
 
-    /// Refuses an ease control outside (0, 1).
+    /// Refuses an ease control outside (0, 1) and a region fade outside (0, 1].
     pub fn validate(&self) -> Result<()> {
         let g = self.ease_control;
         if !(g.is_finite() && g > 0.0 && g < 1.0) {
             return Err(MccError::Settings(format!("ease control {g} must be strictly between 0 and 1")));
+        }
+        let f = self.region_fade;
+        if !(f.is_finite() && f > 0.0 && f <= 1.0) {
+            return Err(MccError::Settings(format!(
+                "region fade {f} must be above 0 and at most 1 (a fraction of the shorter side)"
+            )));
         }
         Ok(())
     }
@@ -110,6 +155,8 @@ pub struct RemapOutput {
     pub warnings: Vec<RemapWarning>,
     /// Debug data, when asked for.
     pub debug: Option<RemapDebug>,
+    /// The seam ratio of the rays, when asked for ([`RemapConfig::report`] or `debug`).
+    pub seams: Option<SeamSummary>,
 }
 
 /// The source ray of every camera pixel: R_id(p)(p), merged into one plane (background slots are
@@ -242,17 +289,41 @@ pub fn remap_sources(
         })
         .collect();
     let edges = edges::edge_mask(&cam, width, height);
-    let boxes = nearest::RegionBoxes::new(&cam, &regions.index, regions.count(), width);
-    let nearest = nearest::nearest_edges(&cam, &edges, &regions.index, &boxes, cameras.len(), width, height);
-    let (participants, warnings) = weights::participants(&nearest, regions, &boxes.background, cameras.len());
-    let mut planes =
-        weights::initial_weights(&cam, &regions.index, &nearest, &participants, cameras.len(), width);
-    let background: Vec<bool> = cam.iter().map(|&c| c == 0).collect();
-    let radii = (config.first_blur_radius as usize, config.second_blur_radius as usize);
-    smooth::smooth(&mut planes, &background, width, height, radii, smooth::Ease::new(config.ease_control));
-    drop(background);
-    let (rays, dominant) = burp::remapped_rays(&cam, &sources.rays, &nearest, &planes, width, config.debug);
-    drop(nearest);
+    let (rays, planes, dominant, warnings) = match config.blend {
+        Blend::Glassner => {
+            let boxes = nearest::RegionBoxes::new(&cam, &regions.index, regions.count(), width);
+            let nearest =
+                nearest::nearest_edges(&cam, &edges, &regions.index, &boxes, cameras.len(), width, height);
+            let (participants, warnings) =
+                weights::participants(&nearest.participates, regions, &boxes.background, cameras.len());
+            let mut planes =
+                weights::initial_weights(&cam, &regions.index, &nearest, &participants, cameras.len(), width);
+            let background: Vec<bool> = cam.iter().map(|&c| c == 0).collect();
+            let radii = (config.first_blur_radius as usize, config.second_blur_radius as usize);
+            smooth::smooth(
+                &mut planes,
+                &background,
+                width,
+                height,
+                radii,
+                smooth::Ease::new(config.ease_control),
+            );
+            drop(background);
+            let (rays, dominant) =
+                burp::remapped_rays(&cam, &sources.rays, &nearest, &planes, width, config.debug);
+            (rays, planes, dominant, warnings)
+        }
+        Blend::Seamless => {
+            let blend =
+                seamless::seamless(&cam, &edges, &sources.rays, regions, cameras.len(), config.region_fade);
+            let dominant = config.debug.then(|| burp::dominant(&cam, &blend.weights));
+            (blend.rays, blend.weights, dominant, blend.warnings)
+        }
+    };
+    // Nothing to measure without background pixels or a pitch: no figures, not an error.
+    let ratios =
+        (config.debug || config.report).then(|| SeamRatios::measure(&rays, &cam, width).ok()).flatten();
+    let seams = ratios.as_ref().map(|r| r.summary);
     let debug = dominant.map(|dominant| RemapDebug {
         width: collage.width,
         height: collage.height,
@@ -261,10 +332,11 @@ pub fn remap_sources(
         edges,
         weights: planes,
         dominant,
+        seams: ratios,
     });
     let mut rays = RayFile::new(collage.width, collage.height, frame, 0, rays)?;
     rays.computed = true;
-    Ok(RemapOutput { rays, warnings, debug })
+    Ok(RemapOutput { rays, warnings, debug, seams })
 }
 
 #[cfg(test)]

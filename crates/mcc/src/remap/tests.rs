@@ -80,7 +80,7 @@ fn camera_pixels_are_bit_exact_and_background_rays_valid() {
         }
         let regions = random_regions(&mut rng, w, h);
         let files = views(&ids, w, h);
-        let config = if case % 2 == 0 { RemapConfig::GLASSNER } else { RemapConfig::UNSMOOTHED };
+        let config = [RemapConfig::GLASSNER, RemapConfig::UNSMOOTHED, RemapConfig::SEAMLESS][case % 3];
         let out = remap(&collage, &regions, &files, 1, &config).unwrap();
         for (p, (&id, r)) in collage.ids.iter().zip(&out.rays.rays).enumerate() {
             if id != 0 {
@@ -163,15 +163,19 @@ fn same_result_for_any_thread_count() {
     let collage = random_collage(&mut rng, w, h, &ids);
     let regions = random_regions(&mut rng, w, h);
     let files = views(&ids, w, h);
-    let run = |threads| {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-        pool.install(|| remap(&collage, &regions, &files, 0, &RemapConfig::GLASSNER).unwrap())
-    };
-    let (one, three) = (run(1), run(3));
-    assert_eq!(
-        one.rays.rays.iter().map(bits).collect::<Vec<_>>(),
-        three.rays.rays.iter().map(bits).collect::<Vec<_>>()
-    );
+    for preset in [RemapConfig::GLASSNER, RemapConfig::SEAMLESS] {
+        let run = |threads| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| remap(&collage, &regions, &files, 0, &preset).unwrap())
+        };
+        let (one, three) = (run(1), run(3));
+        assert_eq!(
+            one.rays.rays.iter().map(bits).collect::<Vec<_>>(),
+            three.rays.rays.iter().map(bits).collect::<Vec<_>>(),
+            "{:?}",
+            preset.blend
+        );
+    }
 }
 
 #[test]
@@ -206,12 +210,43 @@ fn sixty_three_cameras_give_finite_unit_rays() {
     }
     let collage = Collage::new(w, h, ids).unwrap();
     let files: BTreeMap<u32, RayFile> = (1..=63).map(|id| (id, view(id, w, h))).collect();
-    let config = RemapConfig { debug: true, ..RemapConfig::GLASSNER };
-    let out = remap(&collage, &Regions::single(w, h), &files, 0, &config).unwrap();
-    assert!(out.rays.rays.iter().all(|r| r.defect().is_none()));
-    let dbg = out.debug.unwrap();
-    for p in 0..(w * h) as usize {
-        let sum: f32 = dbg.weights.iter().map(|plane| plane[p]).sum();
-        assert!(sum.is_finite() && (sum - 1.0).abs() < 1e-5, "pixel {p}: {sum}");
+    // Even and odd cameras face each other: burp meets nearly opposite directions.
+    for preset in [RemapConfig::GLASSNER, RemapConfig::SEAMLESS] {
+        let config = RemapConfig { debug: true, ..preset };
+        let out = remap(&collage, &Regions::single(w, h), &files, 0, &config).unwrap();
+        assert!(out.rays.rays.iter().all(|r| r.defect().is_none()), "{:?}", preset.blend);
+        let dbg = out.debug.unwrap();
+        for p in 0..(w * h) as usize {
+            let sum: f32 = dbg.weights.iter().map(|plane| plane[p]).sum();
+            assert!(sum.is_finite() && (sum - 1.0).abs() < 1e-5, "{:?} pixel {p}: {sum}", preset.blend);
+        }
     }
 }
+
+/// FNV-1a over the bits of every ray: a fingerprint of a remap's exact output.
+fn fingerprint(rays: &[StoredRay]) -> u64 {
+    rays.iter()
+        .flat_map(bits)
+        .flat_map(u32::to_le_bytes)
+        .fold(0xcbf2_9ce4_8422_2325, |h, b| (h ^ b as u64).wrapping_mul(0x0100_0000_01b3))
+}
+
+#[test]
+fn the_columns_blend_is_unchanged_bit_for_bit() {
+    // The default blend's output on a fixed collage with regions, three cameras (two facing each
+    // other) and holes, recorded from the remapper before the seamless blend existed (commit
+    // c39ba49): the default must stay bit-identical (docs/design.md §5.8).
+    let mut rng = Rng::new(2028);
+    let (w, h) = (48, 32);
+    let ids = [1, 2, 4];
+    let collage = random_collage(&mut rng, w, h, &ids);
+    let regions = random_regions(&mut rng, w, h);
+    let files = views(&ids, w, h);
+    let out = remap(&collage, &regions, &files, 0, &RemapConfig::GLASSNER).unwrap();
+    assert_eq!(collage.ids.iter().filter(|&&id| id == 0).count(), EXPECTED_BACKGROUND);
+    assert_eq!(fingerprint(&out.rays.rays), EXPECTED_FINGERPRINT);
+}
+
+/// Recorded with the remapper at commit c39ba49 (see the test).
+const EXPECTED_BACKGROUND: usize = 936;
+const EXPECTED_FINGERPRINT: u64 = 0x5280_2cde_2506_79ae;

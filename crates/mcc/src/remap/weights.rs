@@ -51,10 +51,11 @@ pub fn interpolation_weights(d: &[f64], alpha: &mut [f64]) {
     }
 }
 
-/// The cameras participating in each region (all of them where none has an edge pixel there),
-/// and a warning for every region with background pixels that no camera touches.
+/// The cameras participating in each region (`participates[k][r]`: camera k has an edge pixel in
+/// region r; all cameras where none has), and a warning for every region with background pixels
+/// that no camera touches.
 pub(crate) fn participants(
-    nearest: &NearestEdges,
+    participates: &[Vec<bool>],
     regions: &Regions,
     background: &[usize],
     cameras: usize,
@@ -62,7 +63,7 @@ pub(crate) fn participants(
     let mut warnings = Vec::new();
     let lists = (0..regions.count())
         .map(|r| {
-            let s: Vec<usize> = (0..cameras).filter(|&k| nearest.participates[k][r]).collect();
+            let s: Vec<usize> = (0..cameras).filter(|&k| participates[k][r]).collect();
             if !s.is_empty() {
                 return s;
             }

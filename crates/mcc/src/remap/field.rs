@@ -1,0 +1,198 @@
+//! One camera's smooth ray field for the seamless blend (docs/design.md §5.8): the camera's
+//! edge rays extended over every other pixel by the membrane ([`super::membrane`]), in place of
+//! the column's nearest edge ray, whose choice jumps across medial axes.
+//!
+//! Directions are interpolated in a tangent frame: the azimuthal equidistant map (the sphere's
+//! logarithm) about the camera's mean edge direction, which is smooth and exact in angle near that
+//! direction and singular only at its antipode, so views up to nearly a full turn wide extend
+//! without the cancellation that averaging unit vectors suffers. Origins are interpolated as
+//! points, and not at all when every edge ray shares one origin (pinholes).
+
+use super::membrane::Membrane;
+use crate::ray_file::StoredRay;
+use crate::slerp::angle_between;
+use glam::{DVec3, Vec3};
+use rayon::prelude::*;
+
+/// Relative residual at which the membrane solves stop. What error is left is smooth: it bends
+/// the field by far less than a pixel's step (docs/design.md §5.8).
+const TOLERANCE: f64 = 1e-4;
+/// Iterations a solve may take (a handful reach [`TOLERANCE`]; docs/performance.md).
+const MAX_ITERATIONS: usize = 30;
+
+/// The azimuthal equidistant map about a unit direction.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct TangentFrame {
+    centre: Vec3,
+    u: Vec3,
+    v: Vec3,
+}
+
+impl TangentFrame {
+    /// The frame about the normalised sum of `directions` (+z if they cancel out).
+    pub(crate) fn around(directions: impl Iterator<Item = Vec3>) -> Self {
+        let sum: DVec3 = directions.map(|d| d.as_dvec3()).sum();
+        let centre = sum.try_normalize().map_or(Vec3::Z, |c| c.as_vec3());
+        let (u, v) = centre.any_orthonormal_pair();
+        Self { centre, u, v }
+    }
+
+    /// Tangent coordinates of unit `d`: its angle from the centre along its bearing.
+    #[inline]
+    pub(crate) fn log(&self, d: Vec3) -> [f32; 2] {
+        let (a, b) = (d.dot(self.u), d.dot(self.v));
+        let sine = (a * a + b * b).sqrt();
+        if sine == 0.0 {
+            // The centre itself (or its antipode, the map's one singular point: any bearing).
+            return if d.dot(self.centre) >= 0.0 { [0.0, 0.0] } else { [std::f32::consts::PI, 0.0] };
+        }
+        let angle = angle_between(self.centre, d);
+        [a / sine * angle, b / sine * angle]
+    }
+
+    /// The unit direction of tangent coordinates `t`.
+    #[inline]
+    pub(crate) fn exp(&self, t: [f32; 2]) -> Vec3 {
+        let angle = (t[0] * t[0] + t[1] * t[1]).sqrt();
+        if angle < 1e-12 {
+            return self.centre;
+        }
+        let (sin, cos) = angle.sin_cos();
+        let bearing = (self.u * t[0] + self.v * t[1]) / angle;
+        (self.centre * cos + bearing * sin).normalize()
+    }
+}
+
+/// A camera's field over the picture: tangent coordinates of every pixel's direction, and its
+/// origin.
+pub(crate) struct CameraField {
+    frame: TangentFrame,
+    /// Tangent coordinates (only read at other pixels than the camera's own).
+    tangent: Vec<[f32; 2]>,
+    /// Origins, row-major; `None` when all are `origin`.
+    origins: Option<Vec<[f32; 3]>>,
+    origin: Vec3,
+}
+
+impl CameraField {
+    /// The field's direction at pixel `p` (not one of the camera's own).
+    #[inline]
+    pub(crate) fn direction(&self, p: usize) -> Vec3 {
+        self.frame.exp(self.tangent[p])
+    }
+
+    /// The field's origin at pixel `p`.
+    #[inline]
+    pub(crate) fn origin(&self, p: usize) -> Vec3 {
+        self.origins.as_ref().map_or(self.origin, |o| Vec3::from_array(o[p]))
+    }
+}
+
+/// The solvers the fields of one picture share (their buffers are reused camera after camera).
+pub(crate) struct FieldSolvers {
+    directions: Membrane<2>,
+    origins: Membrane<3>,
+}
+
+impl FieldSolvers {
+    /// Solvers for `width × height` pictures.
+    pub(crate) fn new(width: usize, height: usize) -> Self {
+        Self { directions: Membrane::new(width, height), origins: Membrane::new(width, height) }
+    }
+
+    /// The field of camera `c` (its pixels are those with `cam[p] == c`; `edges` marks its edge
+    /// pixels): the membrane of its edge rays over every pixel that is not its own. Rows run in
+    /// parallel; the result does not depend on the thread count.
+    pub(crate) fn field(
+        &mut self,
+        cam: &[u32],
+        c: u32,
+        edges: &[bool],
+        sources: &[StoredRay],
+    ) -> CameraField {
+        let n = cam.len();
+        let edge = |p: usize| cam[p] == c && edges[p];
+        let frame = TangentFrame::around((0..n).filter(|&p| edge(p)).map(|p| sources[p].direction));
+        // Only edge pixels of the camera are ever read as fixed values.
+        let mut tangent: Vec<[f32; 2]> = (0..n)
+            .into_par_iter()
+            .map(|p| if edge(p) { frame.log(sources[p].direction) } else { [0.0; 2] })
+            .collect();
+        self.directions.solve(|p| cam[p] == c, &mut tangent, TOLERANCE, MAX_ITERATIONS);
+        // Origins: one shared point (bit for bit) needs no membrane.
+        let mut edge_origins = (0..n).filter(|&p| edge(p)).map(|p| sources[p].origin);
+        let origin = edge_origins.next().unwrap_or(Vec3::ZERO);
+        let bits = |o: Vec3| o.to_array().map(f32::to_bits);
+        if edge_origins.all(|o| bits(o) == bits(origin)) {
+            return CameraField { frame, tangent, origins: None, origin };
+        }
+        let mut points: Vec<[f32; 3]> = (0..n)
+            .into_par_iter()
+            .map(|p| if edge(p) { sources[p].origin.to_array() } else { [0.0; 3] })
+            .collect();
+        self.origins.solve(|p| cam[p] == c, &mut points, TOLERANCE, MAX_ITERATIONS);
+        CameraField { frame, tangent, origins: Some(points), origin }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_util::Rng;
+
+    #[test]
+    fn tangent_coordinates_round_trip_and_keep_angles() {
+        let mut rng = Rng::new(12);
+        for _ in 0..200 {
+            let frame = TangentFrame::around([rng.direction()].into_iter());
+            for _ in 0..20 {
+                let d = rng.direction();
+                let t = frame.log(d);
+                // The coordinates' length is the angle from the centre.
+                let angle = (t[0] * t[0] + t[1] * t[1]).sqrt();
+                assert!((angle - angle_between(frame.centre, d)).abs() < 1e-6);
+                // Away from the antipode the map inverts.
+                if angle < 3.0 {
+                    assert!(angle_between(frame.exp(t), d) < 2e-6, "{d} {t:?}");
+                }
+            }
+        }
+        let frame = TangentFrame::around([Vec3::X, Vec3::Y].into_iter());
+        assert!((frame.centre - Vec3::new(1.0, 1.0, 0.0).normalize()).length() < 1e-7);
+        assert_eq!(frame.exp([0.0, 0.0]), frame.centre);
+        assert_eq!(frame.log(frame.centre), [0.0, 0.0]);
+        assert!(frame.exp(frame.log(-frame.centre)).is_finite());
+        // Cancelling directions still give a frame.
+        assert_eq!(TangentFrame::around([Vec3::X, -Vec3::X].into_iter()).centre, Vec3::Z);
+    }
+
+    #[test]
+    fn a_ring_of_a_pinhole_fills_with_nearly_its_own_view() {
+        // A ring of camera 1 around a background hole: the membrane of the ring's rays is close
+        // to the pinhole's own rays in the hole (its tangent coordinates are nearly harmonic), and
+        // a shared origin stays bit for bit.
+        let (w, h) = (64, 48);
+        let eye = Vec3::new(1.0, 2.0, 3.0);
+        let sources: Vec<StoredRay> = (0..w * h)
+            .map(|p| {
+                let (x, y) = ((p % w) as f32 + 0.5 - w as f32 / 2.0, (p / w) as f32 + 0.5 - h as f32 / 2.0);
+                StoredRay::new(eye, Vec3::new(x * 0.01, -y * 0.01, -1.0).normalize())
+            })
+            .collect();
+        let cam: Vec<u32> = (0..w * h)
+            .map(|p| {
+                let (x, y) = ((p % w) as f32 - 32.0, (p / w) as f32 - 24.0);
+                (x * x + y * y > 100.0) as u32
+            })
+            .collect();
+        let edges = crate::remap::edges::edge_mask(&cam, w, h);
+        let field = FieldSolvers::new(w, h).field(&cam, 1, &edges, &sources);
+        assert!(field.origins.is_none() && field.origin(0) == eye);
+        let mut worst = 0.0f32;
+        for p in (0..w * h).filter(|&p| cam[p] == 0) {
+            worst = worst.max(angle_between(field.direction(p), sources[p].direction));
+        }
+        // A tenth of a pixel's step (0.01 rad).
+        assert!(worst < 1e-3, "{worst}");
+    }
+}
