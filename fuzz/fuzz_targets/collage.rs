@@ -1,5 +1,5 @@
 //! Collage and region images: image bytes → `Collage::load`/`Collage::decode` (several camera sets and tag codes) and `Regions::load`.
-//! The checks are in `fuzz/src/harness.rs`.
+//! The checks are in `fuzz/harness/src/lib.rs`.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;

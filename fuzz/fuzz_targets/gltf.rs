@@ -1,5 +1,5 @@
 //! glTF scenes (.gltf JSON with data-URI buffers, and .glb): `Scene::load`, then `Scene::at_time` for animated ones.
-//! The checks are in `fuzz/src/harness.rs`.
+//! The checks are in `fuzz/harness/src/lib.rs`.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;

@@ -1,5 +1,5 @@
 //! Layered collages: bytes → `mcc::layers::open_collage` as an OpenRaster archive and as a PSD,
-//! and `load_regions`. The checks are in `fuzz/src/harness.rs`.
+//! and `load_regions`. The checks are in `fuzz/harness/src/lib.rs`.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;

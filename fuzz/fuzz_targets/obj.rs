@@ -1,5 +1,5 @@
 //! OBJ scenes with their MTL library and a texture: `Scene::load` (input: OBJ, separator line, MTL, separator line, image).
-//! The checks are in `fuzz/src/harness.rs`.
+//! The checks are in `fuzz/harness/src/lib.rs`.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;

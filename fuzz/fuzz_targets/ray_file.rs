@@ -1,5 +1,5 @@
 //! Ray files (binary .mcr and text): `RayFile::parse` and `RayFile::read`.
-//! The checks are in `fuzz/src/harness.rs`.
+//! The checks are in `fuzz/harness/src/lib.rs`.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;

@@ -6,7 +6,7 @@ pub use fuzz_harness as harness;
 #[cfg(fuzzing)]
 pub mod alloc_limit;
 
-/// Every fuzz target links this library, so this allocator serves all four.
+/// Every fuzz target links this library, so this allocator serves all five.
 #[cfg(fuzzing)]
 #[global_allocator]
 static ALLOCATOR: alloc_limit::LimitedAllocator = alloc_limit::LimitedAllocator;
