@@ -9,6 +9,7 @@ mod demo;
 mod inbetween;
 mod info;
 mod keys;
+mod merge;
 mod preview;
 mod progress;
 mod remap;
@@ -49,6 +50,8 @@ enum Command {
     Keys(keys::KeysArgs),
     /// Render a range of frames through per-frame ray files (resumable; farm-splittable).
     Animate(animate::AnimateArgs),
+    /// Assemble the bands of `render --tile` / `rerender --tile` into the whole EXR and PNG.
+    Merge(merge::MergeArgs),
     /// Run the main job on the bundled scene and write every picture to one folder
     /// (--animation: the keyframe workflow, a short animated shot).
     Demo(demo::DemoArgs),
@@ -99,6 +102,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Inbetween(a) => inbetween::run(a),
         Command::Keys(a) => keys::run(a),
         Command::Animate(a) => animate::run(a),
+        Command::Merge(a) => merge::run(a),
         Command::Demo(a) => demo::run(a),
     }
 }
