@@ -12,6 +12,7 @@ mod bad_inputs;
 mod common;
 mod cornell_reference;
 mod determinism;
+mod farm;
 mod first_use;
 mod furnace;
 mod fuzz_properties;
