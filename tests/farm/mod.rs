@@ -80,7 +80,16 @@ impl Shot {
         let views = s.scratch.s("local/views");
         for (frame, cameras) in KEYS {
             let f = frame.to_string();
-            let mut args = vec!["render", &scene, "--frame", &f, "--lens-writer", "--tag", "--out", &views];
+            let mut args = vec![
+                "render",
+                scene.as_str(),
+                "--frame",
+                f.as_str(),
+                "--lens-writer",
+                "--tag",
+                "--out",
+                views.as_str(),
+            ];
             args.extend(["--res", RES, "--spp", VIEW_SPP, "--quiet"]);
             for c in cameras {
                 args.extend(["--camera", c]);
@@ -168,7 +177,7 @@ impl Shot {
             ]
             .map(String::from),
         );
-        a.extend(["--cpus-per-task", "1", "--mcctrace", &program].map(String::from));
+        a.extend(["--cpus-per-task", "1", "--mcctrace", program.as_str()].map(String::from));
         a
     }
 
