@@ -19,6 +19,7 @@ mod fuzz_properties;
 mod golden;
 mod layers;
 mod lens_shaders;
+mod light_tree;
 mod mcc_pipeline;
 mod robustness;
 mod scene_features;
