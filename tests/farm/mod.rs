@@ -12,6 +12,7 @@
 //! this test binary on [`cli_entry`] (the root package has no binary target, and a guessed path
 //! under the target folder could be a stale build; see `bad_inputs`).
 
+mod bands;
 mod cluster;
 
 use crate::common::external::external;
