@@ -99,6 +99,15 @@ fn bands_then_merge(command: &[&str], out: &str, n: u32, merged: &str) {
     mcctrace(&args).unwrap();
 }
 
+/// Renders the Cornell box's camera at `res`, 1 spp, with the lens writer into `dir/views`;
+/// returns its ray file.
+fn cornell_lens(dir: &Scratch, res: &str) -> String {
+    let views = dir.s("views");
+    mcctrace(&["render", CORNELL, "--res", res, "--spp", "1", "--lens-writer", "--out", &views, "--quiet"])
+        .unwrap();
+    dir.s("views/frame0000camera01.mcr")
+}
+
 #[test]
 fn tiles_merge_to_the_single_render_bit_for_bit() {
     let dir = Scratch::new("farm-tiles");
@@ -136,20 +145,7 @@ fn tiles_merge_to_the_single_render_bit_for_bit() {
     assert_same_image(&dir.path("n3/view.exr"), Path::new(&single), "merge by name");
 
     // rerender through a lens file with a crop: bands are of the output, after the crop.
-    mcctrace(&[
-        "render",
-        CORNELL,
-        "--res",
-        "20x12",
-        "--spp",
-        "1",
-        "--lens-writer",
-        "--out",
-        &dir.s("views"),
-        "--quiet",
-    ])
-    .unwrap();
-    let lens = dir.s("views/frame0000camera01.mcr");
+    let lens = cornell_lens(&dir, "20x12");
     let rerender =
         ["rerender", CORNELL, "--lens", &lens, "--crop", "2", "--spp", "4", "--adaptive", "--max-depth", "2"];
     let single = dir.s("re/single.exr");
@@ -239,26 +235,10 @@ fn stamp(path: &Path) -> (u64, i64) {
 #[test]
 fn animate_resumes_only_what_is_finished_with_the_same_settings() {
     let dir = Scratch::new("farm-resume");
-    mcctrace(&[
-        "render",
-        CORNELL,
-        "--res",
-        "16x8",
-        "--spp",
-        "1",
-        "--lens-writer",
-        "--out",
-        &dir.s("views"),
-        "--quiet",
-    ])
-    .unwrap();
+    let rays = cornell_lens(&dir, "16x8");
     std::fs::create_dir_all(dir.path("lens")).unwrap();
     for f in 0..=2 {
-        std::fs::copy(
-            dir.path("views/frame0000camera01.mcr"),
-            dir.path(&format!("lens/rerender-frame{f:04}.mcr")),
-        )
-        .unwrap();
+        std::fs::copy(&rays, dir.path(&format!("lens/rerender-frame{f:04}.mcr"))).unwrap();
     }
     let (lens, out) = (dir.s("lens"), dir.s("frames"));
     let animate = |extra: &[&str]| {
@@ -332,21 +312,9 @@ fn animate_resumes_only_what_is_finished_with_the_same_settings() {
 #[test]
 fn two_processes_rendering_one_frame_leave_one_valid_file() {
     let dir = Scratch::new("farm-race");
-    mcctrace(&[
-        "render",
-        CORNELL,
-        "--res",
-        "24x12",
-        "--spp",
-        "1",
-        "--lens-writer",
-        "--out",
-        &dir.s("views"),
-        "--quiet",
-    ])
-    .unwrap();
+    let rays = cornell_lens(&dir, "24x12");
     std::fs::create_dir_all(dir.path("lens")).unwrap();
-    std::fs::copy(dir.path("views/frame0000camera01.mcr"), dir.path("lens/rerender-frame0000.mcr")).unwrap();
+    std::fs::copy(&rays, dir.path("lens/rerender-frame0000.mcr")).unwrap();
     let (lens, out) = (dir.s("lens"), dir.s("frames"));
     let args = [
         "animate",
