@@ -24,8 +24,8 @@ fn cafe_with_the_tree_matches_choice_by_power() {
     let power = PathTracer::new(&scene, job.config)
         .expect("prepare the café")
         .with_light_choice(LightChoice::Power, &scene);
-    let a = render_prepared(&tree, &camera, &mut LensChain::new(), job);
-    let b = render_prepared(&power, &camera, &mut LensChain::new(), Job { seed: 2, ..job });
+    let a = render_prepared(&tree, camera, &mut LensChain::new(), job);
+    let b = render_prepared(&power, camera, &mut LensChain::new(), Job { seed: 2, ..job });
     print_stats("tree", &a);
     print_stats("power", &b);
     assert_eq!(a.stats.nonfinite_samples + b.stats.nonfinite_samples, 0);

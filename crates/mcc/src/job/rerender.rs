@@ -40,10 +40,10 @@ pub fn carrier_camera(resolution: UVec2) -> tracer::Result<Box<dyn Camera>> {
 /// one (the lens reader blends the two), joined by `+`.
 pub fn lens_dir_digest(dir: &Path, frame: u32, motion_blur: bool) -> Result<String> {
     let mut digest = RayFile::read(&crate::names::find_rerender_rays(dir, frame)?)?.digest();
-    if let Some(next) = frame.checked_add(1).filter(|_| motion_blur) {
-        if let Some(path) = crate::names::rerender_rays_if_any(dir, next)? {
-            digest = format!("{digest}+{}", RayFile::read(&path)?.digest());
-        }
+    if let Some(next) = frame.checked_add(1).filter(|_| motion_blur)
+        && let Some(path) = crate::names::rerender_rays_if_any(dir, next)?
+    {
+        digest = format!("{digest}+{}", RayFile::read(&path)?.digest());
     }
     Ok(digest)
 }

@@ -35,7 +35,9 @@ use crate::bsdf::BsdfParams;
 use crate::bvh::{Bvh, Hit};
 use crate::error::{Result, TracerError};
 use crate::interaction::SurfaceInteraction;
-use crate::light::{LightChoice, LightSampler};
+#[cfg(any(test, feature = "test-support"))]
+use crate::light::LightChoice;
+use crate::light::LightSampler;
 use crate::material::Material;
 use crate::ray::Ray;
 use crate::sampler::{MAX_SAMPLES_PER_PIXEL, Sampler};
