@@ -227,10 +227,10 @@ fn an_openraster_file_saved_by_krita_reads_as_edited() {
     assert_eq!((c.width, c.height), (64, 48));
     for y in 0..48 {
         for x in 0..64 {
-            let want = if (50..60).contains(&x) && (30..36).contains(&y) {
+            let patch = (50..60).contains(&x) && (30..36).contains(&y);
+            let feathered = x <= 31; // alpha = 255 · (39.5 − x) / 16 ≥ 127.5 ⇔ x ≤ 31.5
+            let want = if patch || feathered {
                 1
-            } else if x <= 31 {
-                1 // feather: alpha = 255 · (39.5 − x) / 16 ≥ 127.5 ⇔ x ≤ 31.5
             } else if x >= 44 && y < 12 {
                 0
             } else {

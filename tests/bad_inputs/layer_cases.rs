@@ -89,7 +89,7 @@ fn psd(canvas: (u32, u32), layers: &[(&str, [u8; 4], u8, Vec<u8>)]) -> Vec<u8> {
         let mut extra = vec![0; 8]; // no mask, no blending ranges
         extra.push(name.len() as u8);
         extra.extend(name.as_bytes());
-        while (extra.len() - 8) % 4 != 0 {
+        while !(extra.len() - 8).is_multiple_of(4) {
             extra.push(0);
         }
         records.extend((extra.len() as u32).to_be_bytes());
