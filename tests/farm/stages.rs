@@ -8,6 +8,26 @@ use super::bands::{CORNELL, run, stamp};
 use crate::common::Scratch;
 use std::path::PathBuf;
 
+type Stamp = (u64, i64);
+
+fn stamps(files: &[PathBuf]) -> Vec<Stamp> {
+    files.iter().map(|f| stamp(f)).collect()
+}
+
+/// Runs `command` twice: the first run makes `files` without redoing anything, the second skips
+/// them (saying `skipped` and "skipped") and leaves them untouched; returns their stamps.
+#[track_caller]
+fn made_then_skipped(command: &dyn Fn() -> (bool, String), files: &[PathBuf], skipped: &str) -> Vec<Stamp> {
+    let (ok, err) = command();
+    assert!(ok && !["skipped", "re-rendering", "again"].iter().any(|w| err.contains(w)), "{err}");
+    let first = stamps(files);
+    std::thread::sleep(std::time::Duration::from_millis(20));
+    let (ok, err) = command();
+    assert!(ok && err.contains(skipped) && err.contains("skipped"), "{err}");
+    assert_eq!(stamps(files), first, "an unchanged stage is not done again");
+    first
+}
+
 #[test]
 fn views_and_keys_skip_what_is_finished_and_redo_what_changed() {
     let dir = Scratch::new("farm-stages");
@@ -31,14 +51,8 @@ fn views_and_keys_skip_what_is_finished_and_redo_what_changed() {
     };
     let files: Vec<PathBuf> =
         ["exr", "png", "mcr"].iter().map(|e| dir.path(&format!("views/frame0000camera01.{e}"))).collect();
-    let stamps = || files.iter().map(|f| stamp(f)).collect::<Vec<_>>();
-    let (ok, err) = view("1");
-    assert!(ok && !err.contains("re-rendering"), "{err}");
-    let first = stamps();
-    std::thread::sleep(std::time::Duration::from_millis(20));
-    let (ok, err) = view("1");
-    assert!(ok && err.contains("view finished in") && err.contains("skipped"), "{err}");
-    assert_eq!(stamps(), first, "an unchanged view is not rendered again");
+    let stamps = || stamps(&files);
+    let first = made_then_skipped(&|| view("1"), &files, "view finished in");
     let (ok, err) = view("2");
     assert!(ok && err.contains("view: spp 1 ≠ 2, re-rendering"), "{err}");
     let second = stamps();
@@ -58,14 +72,8 @@ fn views_and_keys_skip_what_is_finished_and_redo_what_changed() {
     };
     let lens_files: Vec<PathBuf> =
         (0..=2).map(|f| dir.path(&format!("lens/rerender-frame{f:04}.mcr"))).collect();
-    let lens_stamps = || lens_files.iter().map(|f| stamp(f)).collect::<Vec<_>>();
-    let (ok, err) = keys("smooth");
-    assert!(ok && !err.contains("making them again"), "{err}");
-    let first = lens_stamps();
-    std::thread::sleep(std::time::Duration::from_millis(20));
-    let (ok, err) = keys("smooth");
-    assert!(ok && err.contains("keys: the ray files in") && err.contains("skipped"), "{err}");
-    assert_eq!(lens_stamps(), first, "unchanged keys write nothing");
+    let lens_stamps = || stamps(&lens_files);
+    let first = made_then_skipped(&|| keys("smooth"), &lens_files, "keys: the ray files in");
     let (ok, err) = keys("linear");
     assert!(ok && err.contains("keys: mode Smooth ≠ Linear, making them again"), "{err}");
     assert!(lens_stamps().iter().zip(&first).all(|(a, b)| a != b), "changed keys are made again");

@@ -244,7 +244,7 @@ mod tests {
         // Finished: the EXR, the tagged PNG and the rays; each missing, damaged or changed piece
         // says so.
         assert_eq!(job.check(), Ok(()));
-        let rays_file = files.rays.clone().unwrap();
+        let rays_file = job.rays_path().unwrap();
         let more = Quality { spp: 3, ..quality };
         let stale = ViewRender { render: CameraRender { quality: more, ..render }, ..job };
         assert_eq!(stale.check().unwrap_err().to_string(), "spp 2 ≠ 3");
