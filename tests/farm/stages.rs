@@ -51,11 +51,11 @@ fn views_and_keys_skip_what_is_finished_and_redo_what_changed() {
     };
     let files: Vec<PathBuf> =
         ["exr", "png", "mcr"].iter().map(|e| dir.path(&format!("views/frame0000camera01.{e}"))).collect();
-    let stamps = || stamps(&files);
+    let view_stamps = || stamps(&files);
     let first = made_then_skipped(&|| view("1"), &files, "view finished in");
     let (ok, err) = view("2");
     assert!(ok && err.contains("view: spp 1 ≠ 2, re-rendering"), "{err}");
-    let second = stamps();
+    let second = view_stamps();
     assert!(second[0] != first[0] && second[1] != first[1], "the changed view is rendered again");
     std::fs::remove_file(&files[2]).unwrap();
     let (ok, err) = view("2");
