@@ -292,7 +292,7 @@ pub fn submit(scripts: &Scripts, sbatch: Option<&Path>) -> Result<Vec<Submitted>
         if id.is_empty() || !id.chars().all(|c| c.is_ascii_digit()) {
             return Err(fail(format!("sbatch printed {:?}, not a job id", stdout.trim())));
         }
-        done.push(Submitted { stage: *stage, job_id: id });
+        done.push(Submitted { stage, job_id: id });
     }
     Ok(done)
 }

@@ -112,8 +112,9 @@ mod tests {
         let out = dir.join("rerender-frame0000.mcr");
         let settings =
             |mode: &str| vec![("mode".to_owned(), mode.to_owned()), ("path".to_owned(), "a\tb".into())];
-        let record =
-            |mode: &str| KeysRecord::new(&dir, settings(mode), &[input.clone()], vec![out.clone()]).unwrap();
+        let record = |mode: &str| {
+            KeysRecord::new(&dir, settings(mode), std::slice::from_ref(&input), vec![out.clone()]).unwrap()
+        };
         let smooth = record("smooth");
         assert_eq!(smooth.check(), Err(Stale::Missing(dir.join(RECORD_NAME))));
         let rays = RayFile::new(2, 1, 0, 0, vec![StoredRay::new(Vec3::ZERO, Vec3::Z); 2]).unwrap();
