@@ -19,9 +19,9 @@ use std::path::Path;
 use std::process::Command;
 use tracer::image_io::{ExrImage, read_exr};
 
-const CORNELL: &str = "scenes/cornell/cornell.gltf";
+pub(super) const CORNELL: &str = "scenes/cornell/cornell.gltf";
 /// A started child running `args`.
-fn spawn(args: &[&str]) -> std::process::Child {
+pub(super) fn spawn(args: &[&str]) -> std::process::Child {
     Command::new(std::env::current_exe().unwrap())
         .args(["farm::cli_entry", "--exact", "--ignored", "--nocapture", "--test-threads=1", "-q"])
         .env(super::ENV_ARGS, args.join("\u{1f}"))
@@ -33,7 +33,7 @@ fn spawn(args: &[&str]) -> std::process::Child {
 }
 
 /// Runs `args` in a child: (succeeded, stderr).
-fn run(args: &[&str]) -> (bool, String) {
+pub(super) fn run(args: &[&str]) -> (bool, String) {
     let out = spawn(args).wait_with_output().unwrap();
     (out.status.success(), String::from_utf8_lossy(&out.stderr).into_owned())
 }
@@ -47,7 +47,7 @@ const TIMING: &[&str] = &["mcctrace/seconds"];
 const WORK: &[&str] = &["mcctrace/rays", "mcctrace/samples"];
 
 #[track_caller]
-fn assert_same_image(merged: &Path, single: &Path, what: &str) {
+pub(super) fn assert_same_image(merged: &Path, single: &Path, what: &str) {
     assert_same_image_but(merged, single, &[], what);
 }
 
@@ -101,7 +101,7 @@ fn bands_then_merge(command: &[&str], out: &str, n: u32, merged: &str) {
 
 /// Renders the Cornell box's camera at `res`, 1 spp, with the lens writer into `dir/views`;
 /// returns its ray file.
-fn cornell_lens(dir: &Scratch, res: &str) -> String {
+pub(super) fn cornell_lens(dir: &Scratch, res: &str) -> String {
     let views = dir.s("views");
     mcctrace(&["render", CORNELL, "--res", res, "--spp", "1", "--lens-writer", "--out", &views, "--quiet"])
         .unwrap();
@@ -227,7 +227,7 @@ fn merge_refuses_missing_duplicate_and_mismatched_bands() {
 }
 
 /// (inode, mtime in ns) of `path`.
-fn stamp(path: &Path) -> (u64, i64) {
+pub(super) fn stamp(path: &Path) -> (u64, i64) {
     let m = std::fs::metadata(path).unwrap();
     (m.ino(), m.mtime() * 1_000_000_000 + m.mtime_nsec())
 }

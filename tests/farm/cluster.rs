@@ -52,7 +52,20 @@ impl Cluster {
     /// Runs `mcctrace farm slurm … --submit` (through `program`, the wrapper); returns the
     /// (stage, job id) pairs it printed.
     pub fn submit(&self, program: &Path, args: &[String]) -> Vec<(String, String)> {
-        let out = self.command(program).args(args).arg("--submit").output().expect("run mcctrace farm slurm");
+        self.submit_in(Path::new("."), program, args)
+    }
+
+    /// [`Self::submit`] run in the folder `cwd`; `--submit` goes before any `--` in `args`.
+    pub fn submit_in(&self, cwd: &Path, program: &Path, args: &[String]) -> Vec<(String, String)> {
+        let at = args.iter().position(|a| a == "--").unwrap_or(args.len());
+        let out = self
+            .command(program)
+            .current_dir(cwd)
+            .args(&args[..at])
+            .arg("--submit")
+            .args(&args[at..])
+            .output()
+            .expect("run mcctrace farm slurm");
         let said = String::from_utf8_lossy(&out.stdout).into_owned();
         assert!(
             out.status.success(),

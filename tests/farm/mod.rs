@@ -6,7 +6,9 @@
 //!   again with one chunk cancelled midway (`scancel`), and a resubmission completes the shot
 //!   without touching the frames already finished (same inode, same modification time);
 //! - as an Open Job Description template: `openjd check` accepts it and `openjd run` runs the
-//!   whole job locally to the same frames.
+//!   whole job locally to the same frames;
+//! - one big still cut into bands and merged, on both (`still`); finished views and keys
+//!   skipped by a resubmission (`stages`).
 //!
 //! The scheduler's tasks run the `mcctrace` program: here a small wrapper script that re-runs
 //! this test binary on [`cli_entry`] (the root package has no binary target, and a guessed path
@@ -14,6 +16,8 @@
 
 mod bands;
 mod cluster;
+mod stages;
+mod still;
 
 use crate::common::external::external;
 use crate::common::{Scratch, mcctrace, repo_root};
@@ -244,16 +248,26 @@ fn slurm_renders_the_shot_and_resumes_after_a_cancelled_chunk() {
         (0..5).any(|f| !finished.contains(&f)),
         "the cancelled chunk finished before the cancel reached it (frames {finished:?}): no midway kill was tested"
     );
-    let stamp = |f: u32| {
-        use std::os::unix::fs::MetadataExt;
-        let m = std::fs::metadata(frames.join(format!("frame{f:04}.exr"))).unwrap();
-        (m.ino(), m.mtime(), m.mtime_nsec())
-    };
+    let stamp = |f: u32| bands::stamp(&frames.join(format!("frame{f:04}.exr")));
     let before: Vec<_> = finished.iter().map(|&f| (f, stamp(f))).collect();
+    // The views and the key rays were finished before the cancel: the resubmission skips them.
+    let made = |sub: &str| {
+        let mut files: Vec<PathBuf> =
+            std::fs::read_dir(dir.join(sub)).unwrap().map(|e| e.unwrap().path()).collect();
+        files.sort();
+        files.into_iter().map(|p| (bands::stamp(&p), p)).collect::<Vec<_>>()
+    };
+    let (views, lens) = (made("views"), made("lens"));
+    assert!(
+        views.len() >= 12 && lens.len() == 13,
+        "4 views × (EXR, PNG, rays); 12 frames' rays and the record"
+    );
     let again = cluster.submit(&program, &shot.farm_args("slurm", &dir, &program));
     cluster.wait(&again, &dir);
     cluster.assert_completed(&again, &dir);
     shot.assert_same_frames(&frames);
+    assert_eq!(made("views"), views, "finished views are not rendered again");
+    assert_eq!(made("lens"), lens, "finished key rays are not made again");
     for (f, s) in before {
         assert_eq!(
             stamp(f),

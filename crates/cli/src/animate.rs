@@ -21,7 +21,7 @@ use crate::with_threads;
 use anyhow::{Context, bail};
 use clap::{Args, ValueEnum};
 use glam::UVec2;
-use mcc::job::{Framing, LENS_DIR_KEY, carrier_camera, lens_dir_digest};
+use mcc::job::{FrameRays, Framing, LENS_DIR_KEY, carrier_camera};
 use std::path::{Path, PathBuf};
 use tracer::job::{
     CameraRender, Provenance, Quality, RenderInfo, SceneSetup, Stale, check_finished, write_render,
@@ -156,16 +156,20 @@ impl<'a> Shot<'a> {
         }
     }
 
-    /// The hash of the rays `frame` goes through.
-    fn digest(&self, frame: u32) -> anyhow::Result<String> {
-        lens_dir_digest(&self.a.lens_dir, frame, self.motion_blur())
+    /// The rays `frame` goes through (those of `earlier` reused, not read again).
+    fn rays(&self, frame: u32, earlier: Option<&FrameRays>) -> anyhow::Result<FrameRays> {
+        FrameRays::read(&self.a.lens_dir, frame, self.motion_blur(), earlier)
             .with_context(|| format!("frame {frame}: reading its rays"))
     }
 
-    /// Whether `frame` is finished in the output folder (`Ok`), or why not.
+    /// Whether `frame` is finished in the output folder (`Ok`), or why not. Its rays are read
+    /// (for their hash) only when its EXR is there to compare with.
     fn status(&self, frame: u32) -> anyhow::Result<Result<(), Stale>> {
-        let digest = self.digest(frame)?;
         let exr = frame_exr(&self.a.out, frame);
+        if !exr.is_file() {
+            return Ok(Err(Stale::Missing(exr)));
+        }
+        let digest = self.rays(frame, None)?.digest();
         let settings = self.info(frame, &digest).settings();
         Ok(check_finished(&exr, Some(&exr.with_extension("png")), &settings, self.framing.output()))
     }
@@ -210,13 +214,18 @@ pub fn animate(a: &AnimateArgs) -> anyhow::Result<AnimateReport> {
         let still = if base.animation.is_none() { Some(quality.tracer(&base)?) } else { None };
         let framing = shot.framing;
         let camera = carrier_camera(framing.film)?;
-        let reader = mcc::LensReader::new(mcc::lens_reader::RaySource::Directory(a.lens_dir.clone()))
-            .with_motion_blur(shot.motion_blur());
-        let mut lenses = LensChain::new();
-        lenses.push(Box::new(reader));
         let bar = ShotBar::new(todo.len() as u64, q.quiet);
         let bars = bar.frame_bars();
+        let mut earlier: Option<FrameRays> = None;
         for &frame in &todo {
+            // Read once: hashed for the header and handed to the lens reader, which reads nothing.
+            let rays = shot.rays(frame, earlier.as_ref())?;
+            let digest = rays.digest();
+            let reader = mcc::LensReader::new(mcc::lens_reader::RaySource::Directory(a.lens_dir.clone()))
+                .with_motion_blur(shot.motion_blur())
+                .with_frame(frame, rays.current.clone(), rays.next.clone());
+            let mut lenses = LensChain::new();
+            lenses.push(Box::new(reader));
             let posed;
             let tracer = match &still {
                 Some(t) => t,
@@ -244,8 +253,8 @@ pub fn animate(a: &AnimateArgs) -> anyhow::Result<AnimateReport> {
             let rendered = framing.crop(rendered);
             warn_nonfinite(&name, &rendered);
             let exr = frame_exr(&a.out, frame);
-            let digest = shot.digest(frame)?;
             write_render(&exr, &rendered, &shot.info(frame, &digest))?;
+            earlier = Some(rays);
             bar.frame_done(&summary(&name, q.spp, &rendered, &exr));
             report.rendered.push(frame);
         }

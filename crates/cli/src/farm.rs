@@ -1,13 +1,14 @@
 //! `mcctrace farm`: a whole MCC shot as render-farm jobs (docs/farm.md, "Schedulers"): the
-//! arguments describe the shot as `render`, `keys` and `animate` would take it; the `farm`
-//! library writes the Slurm scripts (and submits them with `--submit`) or the Open Job
-//! Description template.
+//! arguments describe the shot as `render`, `keys` and `animate` would take it; or, with
+//! `--bands N -- COMMAND`, one big still (`render` or `rerender`) cut into N bands and merged
+//! (docs/farm.md, "Big stills"). The `farm` library writes the Slurm scripts (and submits them
+//! with `--submit`) or the Open Job Description template.
 
 use crate::args::{FrameRange, KeyArg, Resolution, Shutter};
 use crate::inbetween::ModeArg;
-use anyhow::Context;
-use clap::{Args, Subcommand, ValueEnum};
-use farm::{FrameSpan, Key, Pass, Resources, Shot};
+use anyhow::{Context, bail};
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use farm::{FrameSpan, Key, Pass, Resources, Shot, Still};
 use std::path::PathBuf;
 use tracer::job::{Quality, SceneSetup};
 
@@ -25,36 +26,89 @@ enum Scheduler {
     Slurm(SlurmArgs),
     /// An Open Job Description template, DIR/openjd-template.yaml (`openjd run` runs it
     /// locally; AWS Deadline Cloud takes it as a job bundle's template).
-    Openjd(ShotArgs),
+    Openjd(JobArgs),
 }
 
 #[derive(Args, Debug)]
 struct SlurmArgs {
     #[command(flatten)]
-    shot: ShotArgs,
+    job: JobArgs,
     /// Submit the stages with sbatch (each after the one before) and print their job ids.
     #[arg(long)]
     submit: bool,
 }
 
+/// A shot (the flags below), or a still (`--bands N -- COMMAND`), and what every task asks
+/// for.
+#[derive(Args, Debug)]
+struct JobArgs {
+    #[command(flatten)]
+    shot: ShotArgs,
+    /// A big still instead of a shot: the `render` or `rerender` command after `--`, cut into N
+    /// horizontal bands (one task each, `--tile I/N`), then merged into its --out.
+    #[arg(long, value_name = "N", requires = "command", conflicts_with_all = SHOT_ONLY)]
+    bands: Option<u32>,
+    /// With --bands: the still's command, word for word as run locally (`render SCENE … --out
+    /// BIG.exr` or `rerender …`), without --tile. It runs in this folder.
+    #[arg(last = true, value_name = "COMMAND", requires = "bands")]
+    command: Vec<String>,
+    /// The folder every task shares: the jobs and logs/ go here (for a shot also views/, lens/
+    /// and frames/).
+    #[arg(long)]
+    dir: PathBuf,
+    /// CPUs per task (default: 1 for pictures up to 256x256, else 4).
+    #[arg(long, value_name = "N")]
+    cpus_per_task: Option<u32>,
+    /// Memory per task, MiB or with a unit: 4096, 4G, 512M (default: from the resolution).
+    #[arg(long, value_name = "SIZE", value_parser = mem_mib)]
+    mem: Option<u64>,
+    /// Time limit per task: MINUTES, H:MM:SS or D-H:MM:SS (default: from the samples per task).
+    #[arg(long, value_name = "TIME", value_parser = minutes)]
+    time: Option<u32>,
+    /// The partition (queue) to run in (default: the cluster's).
+    #[arg(long)]
+    partition: Option<String>,
+    /// The mcctrace program the tasks run (default: this one). It must be reachable from the
+    /// farm's machines at this path.
+    #[arg(long, value_name = "PATH")]
+    mcctrace: Option<PathBuf>,
+}
+
+/// The shot's own flags, refused beside --bands.
+const SHOT_ONLY: [&str; 15] = [
+    "scene",
+    "keys",
+    "cameras",
+    "frames",
+    "chunk",
+    "view_res",
+    "view_spp",
+    "res",
+    "spp",
+    "seed",
+    "fps",
+    "max_depth",
+    "shutter",
+    "mode",
+    "seamless",
+];
+
 /// The shot: what `render` (the views), `keys` and `animate` (the frames) would be given.
 #[derive(Args, Debug)]
 struct ShotArgs {
     /// Scene file (.gltf, .glb, .obj) or a directory of .obj files.
-    scene: PathBuf,
+    #[arg(required_unless_present = "bands")]
+    scene: Option<PathBuf>,
     /// A key: FRAME=COLLAGE or FRAME=COLLAGE,REGIONS, as `keys` takes it. Repeat per key.
-    #[arg(long = "key", value_name = "FRAME=COLLAGE[,REGIONS]", required = true)]
+    #[arg(long = "key", value_name = "FRAME=COLLAGE[,REGIONS]", required_unless_present = "bands")]
     keys: Vec<KeyArg>,
     /// The cameras of a key frame's views, in view order (camera01, camera02, …), as
     /// `render --camera` names them: FRAME=CAMERA[,CAMERA…]. One per key.
-    #[arg(long = "cameras", value_name = "FRAME=CAMERA[,CAMERA…]", required = true)]
+    #[arg(long = "cameras", value_name = "FRAME=CAMERA[,CAMERA…]", required_unless_present = "bands")]
     cameras: Vec<KeyArg>,
     /// The output frames, FIRST..=LAST.
-    #[arg(long, value_name = "A..=B")]
-    frames: FrameRange,
-    /// The shot folder every task shares: views/, lens/, frames/, logs/ and the jobs go here.
-    #[arg(long)]
-    dir: PathBuf,
+    #[arg(long, value_name = "A..=B", required_unless_present = "bands")]
+    frames: Option<FrameRange>,
     /// Output frames per task.
     #[arg(long, default_value_t = 10, value_name = "N")]
     chunk: u32,
@@ -88,22 +142,6 @@ struct ShotArgs {
     /// The seamless blend, as `keys --seamless`.
     #[arg(long)]
     seamless: bool,
-    /// CPUs per task (default: 1 for pictures up to 256x256, else 4).
-    #[arg(long, value_name = "N")]
-    cpus_per_task: Option<u32>,
-    /// Memory per task, MiB or with a unit: 4096, 4G, 512M (default: from the resolution).
-    #[arg(long, value_name = "SIZE", value_parser = mem_mib)]
-    mem: Option<u64>,
-    /// Time limit per task: MINUTES, H:MM:SS or D-H:MM:SS (default: from the samples per task).
-    #[arg(long, value_name = "TIME", value_parser = minutes)]
-    time: Option<u32>,
-    /// The partition (queue) to run in (default: the cluster's).
-    #[arg(long)]
-    partition: Option<String>,
-    /// The mcctrace program the tasks run (default: this one). It must be reachable from the
-    /// farm's machines at this path.
-    #[arg(long, value_name = "PATH")]
-    mcctrace: Option<PathBuf>,
 }
 
 /// `--mem`: a size in MiB, or with a unit K, M, G or T (Slurm's own suffixes).
@@ -140,12 +178,100 @@ fn minutes(s: &str) -> Result<u32, String> {
     u32::try_from(seconds.div_ceil(60)).map_err(|_| err())
 }
 
-impl ShotArgs {
+/// What the farm needs from a still's command: its output and, for the default resources, its
+/// size and samples.
+struct StillCommand {
+    out: PathBuf,
+    size: (u32, u32),
+    spp: u32,
+}
+
+/// Size assumed for resources when a rerender's rays cannot be sized without --res.
+const ASSUMED_SIZE: (u32, u32) = (3840, 2160);
+
+impl StillCommand {
+    /// Parses the still's command as `mcctrace` would; refuses anything but one view of
+    /// `render` or a `rerender`.
+    fn parse(words: &[String]) -> anyhow::Result<Self> {
+        let cli =
+            crate::Cli::try_parse_from(std::iter::once("mcctrace").chain(words.iter().map(String::as_str)))
+                .map_err(|e| anyhow::anyhow!("COMMAND (after --): {}", e.render().to_string().trim()))?;
+        let (out, spp, size) = match cli.command {
+            crate::Command::Render(r) => {
+                if r.scene.cameras.len() > 1 {
+                    bail!("--camera: a still is one view; give one --camera (farm each view on its own)");
+                }
+                (r.out, r.quality.spp, r.quality.resolution())
+            }
+            crate::Command::Rerender(r) => {
+                let size = match (r.quality.res, &r.lens, &r.input.collage) {
+                    (Some(res), _, _) => res.0,
+                    (None, Some(lens), _) => {
+                        let rays = mcc::RayFile::read(lens)?;
+                        glam::UVec2::new(rays.width, rays.height)
+                    }
+                    (None, None, Some(collage)) => image::image_dimensions(collage)
+                        .map(|(w, h)| glam::UVec2::new(w, h))
+                        .unwrap_or(glam::UVec2::from(ASSUMED_SIZE)),
+                    (None, None, None) => glam::UVec2::from(ASSUMED_SIZE),
+                };
+                (r.out, r.quality.spp, size)
+            }
+            _ => bail!(
+                "COMMAND (after --): {:?} is not a still: give a `render` or `rerender` command",
+                words.first().map(String::as_str).unwrap_or_default()
+            ),
+        };
+        Ok(Self { out, size: (size.x, size.y), spp })
+    }
+}
+
+impl JobArgs {
+    fn resources(&self) -> Resources {
+        Resources {
+            cpus: self.cpus_per_task,
+            mem_mib: self.mem,
+            time_minutes: self.time,
+            partition: self.partition.clone(),
+        }
+    }
+
+    fn mcctrace(&self) -> anyhow::Result<PathBuf> {
+        match &self.mcctrace {
+            Some(p) => Ok(p.clone()),
+            None => std::env::current_exe().context("finding this mcctrace program (give --mcctrace PATH)"),
+        }
+    }
+
+    /// The still of `--bands N -- COMMAND`, checked; `None` for a shot.
+    fn still(&self) -> anyhow::Result<Option<Still>> {
+        let Some(bands) = self.bands else { return Ok(None) };
+        // Refused by flag first: a --tile in the command would parse as a valid render.
+        farm::still::check_command(bands, &self.command)?;
+        let command = StillCommand::parse(&self.command)?;
+        let still = Still {
+            mcctrace: self.mcctrace()?,
+            workdir: std::env::current_dir().context("finding the current folder")?,
+            dir: self.dir.clone(),
+            command: self.command.clone(),
+            out: command.out,
+            bands,
+            size: command.size,
+            spp: command.spp,
+            resources: self.resources(),
+        };
+        Ok(Some(still.plan()?))
+    }
+
     fn shot(&self) -> anyhow::Result<Shot> {
+        let a = &self.shot;
+        let (Some(scene), Some(frames)) = (&a.scene, a.frames) else {
+            bail!("a shot needs SCENE and --frames (or --bands N -- COMMAND for a still)");
+        };
         let mut keys = Vec::new();
-        for k in &self.keys {
+        for k in &a.keys {
             let (collage, regions) = crate::keys::split_key(k)?;
-            let cameras = self
+            let cameras = a
                 .cameras
                 .iter()
                 .filter(|c| c.frame == k.frame)
@@ -153,49 +279,38 @@ impl ShotArgs {
                 .collect();
             keys.push(Key { frame: k.frame, cameras, collage, regions });
         }
-        if let Some(c) = self.cameras.iter().find(|c| !self.keys.iter().any(|k| k.frame == c.frame)) {
+        if let Some(c) = a.cameras.iter().find(|c| !a.keys.iter().any(|k| k.frame == c.frame)) {
             anyhow::bail!("--cameras {}={}: frame {} has no --key", c.frame, c.value, c.frame);
         }
         let common = vec![
             "--seed".into(),
-            self.seed.to_string(),
+            a.seed.to_string(),
             "--fps".into(),
-            self.fps.to_string(),
+            a.fps.to_string(),
             "--max-depth".into(),
-            self.max_depth.to_string(),
+            a.max_depth.to_string(),
         ];
         let mut output_args = common.clone();
-        if let Some(sh) = self.shutter {
+        if let Some(sh) = a.shutter {
             output_args.extend(["--shutter".into(), format!("{}..{}", sh.open, sh.close)]);
         }
-        let mode = self.mode.to_possible_value().map(|v| v.get_name().to_owned()).unwrap_or_default();
+        let mode = a.mode.to_possible_value().map(|v| v.get_name().to_owned()).unwrap_or_default();
         let mut keys_args = vec!["--mode".into(), mode];
-        if self.seamless {
+        if a.seamless {
             keys_args.push("--seamless".into());
         }
         let res = |r: Resolution| (r.0.x, r.0.y);
-        let mcctrace = match &self.mcctrace {
-            Some(p) => p.clone(),
-            None => {
-                std::env::current_exe().context("finding this mcctrace program (give --mcctrace PATH)")?
-            }
-        };
         Ok(Shot {
-            mcctrace,
-            scene: self.scene.clone(),
+            mcctrace: self.mcctrace()?,
+            scene: scene.clone(),
             dir: self.dir.clone(),
             keys,
-            frames: FrameSpan { first: self.frames.first, last: self.frames.last },
-            chunk: self.chunk,
-            views: Pass { res: res(self.view_res), spp: self.view_spp, args: common },
-            output: Pass { res: res(self.res.unwrap_or(self.view_res)), spp: self.spp, args: output_args },
+            frames: FrameSpan { first: frames.first, last: frames.last },
+            chunk: a.chunk,
+            views: Pass { res: res(a.view_res), spp: a.view_spp, args: common },
+            output: Pass { res: res(a.res.unwrap_or(a.view_res)), spp: a.spp, args: output_args },
             keys_args,
-            resources: Resources {
-                cpus: self.cpus_per_task,
-                mem_mib: self.mem,
-                time_minutes: self.time,
-                partition: self.partition.clone(),
-            },
+            resources: self.resources(),
         })
     }
 }
@@ -203,24 +318,31 @@ impl ShotArgs {
 pub fn run(a: FarmArgs) -> anyhow::Result<()> {
     match a.scheduler {
         Scheduler::Slurm(s) => {
-            let plan = s.shot.shot()?.plan()?;
-            let scripts = farm::slurm::write(&plan)?;
+            let (scripts, dir) = match s.job.still()? {
+                Some(still) => (still.write_slurm()?, still.dir),
+                None => {
+                    let plan = s.job.shot()?.plan()?;
+                    (farm::slurm::write(&plan)?, plan.shot.dir)
+                }
+            };
             for (_, path) in &scripts.stages {
                 println!("wrote {}", path.display());
             }
             println!("wrote {}", scripts.submit.display());
             if s.submit {
                 for job in farm::slurm::submit(&scripts, None)? {
-                    println!("{}: job {}", job.stage.name(), job.job_id);
+                    println!("{}: job {}", job.stage, job.job_id);
                 }
-                println!("logs: {}", plan.path("logs").display());
+                println!("logs: {}", dir.join("logs").display());
             } else {
                 println!("submit with: bash {}", farm::slurm::submit_hint(&scripts));
             }
         }
-        Scheduler::Openjd(shot) => {
-            let plan = shot.shot()?.plan()?;
-            let path = farm::openjd::write(&plan)?;
+        Scheduler::Openjd(job) => {
+            let path = match job.still()? {
+                Some(still) => still.write_openjd()?,
+                None => farm::openjd::write(&job.shot()?.plan()?)?,
+            };
             println!("wrote {}", path.display());
             println!("check with: openjd check {0}\nrun locally: openjd run {0}", path.display());
         }
@@ -231,6 +353,31 @@ pub fn run(a: FarmArgs) -> anyhow::Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// clap's own consistency checks over the whole command line (ids in conflicts and
+    /// requirements, positionals), and both forms of `farm` parse: a still's command is kept
+    /// word for word, a shot's flags are refused beside --bands.
+    #[test]
+    fn both_forms_parse() {
+        use clap::CommandFactory;
+        crate::Cli::command().debug_assert();
+        let parse = |words: &str| crate::Cli::try_parse_from(words.split(' '));
+        let still = parse("mcctrace farm slurm --bands 4 --dir d -- render s.gltf --tile 1/2 --out a.exr");
+        let Ok(crate::Cli { command: crate::Command::Farm(FarmArgs { scheduler: Scheduler::Slurm(s) }) }) =
+            still
+        else {
+            panic!("{still:?}")
+        };
+        assert_eq!(s.job.bands, Some(4));
+        assert_eq!(s.job.command, ["render", "s.gltf", "--tile", "1/2", "--out", "a.exr"]);
+        assert!(s.job.shot.scene.is_none());
+        let shot = "mcctrace farm openjd s.gltf --key 0=c.png --cameras 0=a --frames 0..=3 --dir d";
+        assert!(parse(shot).is_ok());
+        let err = parse("mcctrace farm slurm --bands 4 --spp 3 --dir d -- render s.gltf").unwrap_err();
+        assert!(err.to_string().contains("--spp"), "{err}");
+        assert!(parse("mcctrace farm slurm --bands 4 --dir d").is_err(), "--bands needs a command");
+        assert!(parse("mcctrace farm slurm --dir d").is_err(), "a shot needs its scene");
+    }
 
     #[test]
     fn memory_and_time_limits() {

@@ -1,7 +1,8 @@
 //! `mcctrace keys`: the column's keyframe workflow in one go (docs/design.md §5, §7, §8): one
 //! collage per key frame, each remapped against that frame's source views
 //! (`frameFFFFcameraCC.mcr`, docs/design.md §4.3) by the remap command's own job, then
-//! in-betweened into one ray file per frame.
+//! in-betweened into one ray file per frame. Skipped when those files are finished for the same
+//! keys, views and settings (`mcc::job::KeysRecord`, docs/farm.md).
 
 use crate::args::KeyArg;
 use crate::inbetween::{InbetweenOutputArgs, write_inbetweens};
@@ -9,7 +10,9 @@ use crate::setup::collage::{RemapSettingsArgs, remap};
 use anyhow::{Context, bail};
 use clap::Args;
 use mcc::inbetween::Keys;
+use mcc::job::KeysRecord;
 use std::path::PathBuf;
+use tracer::job::Stale;
 
 /// Arguments of `mcctrace keys`.
 #[derive(Args, Debug)]
@@ -66,9 +69,55 @@ fn remap_keys(a: &KeysArgs) -> anyhow::Result<Vec<(u32, mcc::RayFile)>> {
         .collect()
 }
 
+/// The record of what this run's ray files are made from: its settings, and every file the
+/// keys' remaps read (hashed).
+fn record(a: &KeysArgs) -> anyhow::Result<KeysRecord> {
+    let o = &a.output;
+    let mut inputs = Vec::new();
+    let mut settings = Vec::new();
+    for k in &a.keys {
+        let (collage, regions) = split_key(k)?;
+        let job = a.settings.job(collage, regions, a.rays.clone(), k.frame)?;
+        inputs.extend(job.input.inputs().with_context(|| format!("key at frame {}", k.frame))?);
+        settings.push((format!("key {}", k.frame), k.value.clone()));
+        settings.push((format!("remap {}", k.frame), format!("{:?} {:?}", job.config, job.input.options)));
+    }
+    let frames = o.frames.unwrap_or_else(|| {
+        let at = a.keys.iter().map(|k| k.frame);
+        crate::args::FrameRange { first: at.clone().min().unwrap_or(0), last: at.max().unwrap_or(0) }
+    });
+    settings.extend([
+        ("rays".to_owned(), a.rays.display().to_string()),
+        ("frames".to_owned(), frames.to_string()),
+        ("mode".to_owned(), format!("{:?}", o.mode)),
+        ("res".to_owned(), o.res.map(|r| r.to_string()).unwrap_or_default()),
+        ("ray_format".to_owned(), format!("{:?}", o.ray_format)),
+        ("crop".to_owned(), o.crop.to_string()),
+    ]);
+    let format = o.ray_format.into();
+    let outputs = frames.range().map(|f| o.out.join(mcc::names::rerender_name(f, format))).collect();
+    Ok(KeysRecord::new(&o.out, settings, &inputs, outputs)?)
+}
+
 pub fn run(a: KeysArgs) -> anyhow::Result<()> {
+    let record = record(&a)?;
+    match record.check() {
+        Ok(()) => {
+            if !a.output.quiet {
+                eprintln!(
+                    "keys: the ray files in {} are finished with these keys, views and settings, skipped",
+                    a.output.out.display()
+                );
+            }
+            return Ok(());
+        }
+        // Never made here: nothing to say.
+        Err(Stale::Missing(path)) if path == record.path => {}
+        Err(why) => eprintln!("keys: {why}, making them again"),
+    }
     let remapped = remap_keys(&a)?;
     let keys = Keys::new(remapped, a.output.res.map(|r| r.0))?;
     write_inbetweens(&keys, &a.output)?;
+    record.write()?;
     Ok(())
 }

@@ -1,6 +1,7 @@
 //! `mcctrace render`: render a scene from one or more cameras (docs/design.md §3, §8), each view
 //! written as EXR + PNG, with the MCC lens writer's rays and the tagger's stamp when asked; or,
-//! with `--tile I/N`, one band of each view (docs/farm.md), skipped when already finished.
+//! with `--tile I/N`, one band of each view (docs/farm.md); a band, and with `--resume` a whole
+//! view, is skipped when already finished.
 
 use crate::args::RayFormatArg;
 use crate::progress::Bars;
@@ -61,6 +62,12 @@ pub struct RenderArgs {
     #[arg(long, value_name = "I/N", value_parser = crate::args::tile,
           conflicts_with_all = ["lens_writer", "tag", "layers"])]
     pub tile: Option<Band>,
+    /// Skip a view whose files are finished with the same settings (docs/farm.md: its EXR and
+    /// PNG whole, the header's settings this run's; with --tag every PNG pixel tagged with its
+    /// number, with --lens-writer its ray file whole); a stale one is rendered again and said so.
+    /// The farm's view tasks pass it.
+    #[arg(long, conflicts_with = "layers")]
+    pub resume: bool,
 }
 
 pub fn run(a: RenderArgs) -> anyhow::Result<()> {
@@ -115,22 +122,32 @@ pub fn run(a: RenderArgs) -> anyhow::Result<()> {
             setup: Some(&setup),
             band: a.tile,
         };
-        if let Some(band) = a.tile {
-            let name = &view.desc.name;
-            let rows = job.rows().expect("a band has rows");
-            if rows.is_empty() {
-                eprintln!("{name}: band {band} of a {}-row image is empty: nothing to render", rows.start);
-                continue;
+        let name = &view.desc.name;
+        let what = match a.tile {
+            Some(band) => {
+                let rows = job.rows().expect("a band has rows");
+                if rows.is_empty() {
+                    eprintln!(
+                        "{name}: band {band} of a {}-row image is empty: nothing to render",
+                        rows.start
+                    );
+                    continue;
+                }
+                Some(format!("band {band}"))
             }
+            None => a.resume.then(|| "view".to_owned()),
+        };
+        if let Some(what) = what {
             match job.check() {
                 Ok(()) => {
                     if !q.quiet {
-                        eprintln!("{name}: band {band} finished in {}, skipped", job.target().display());
+                        eprintln!("{name}: {what} finished in {}, skipped", job.target().display());
                     }
                     continue;
                 }
-                Err(Stale::Missing(_)) => {}
-                Err(why) => eprintln!("{name}: band {band}: {why}, re-rendering"),
+                // Not rendered yet: nothing to say.
+                Err(Stale::Missing(path)) if path == job.target() => {}
+                Err(why) => eprintln!("{name}: {what}: {why}, re-rendering"),
             }
         }
         let (rendered, files) = with_threads(q.threads, || job.run(&bars))??;

@@ -2,7 +2,9 @@
 //! docs/design.md §8's keyframe workflow): the source views of every key frame, `keys` (remap and
 //! in-between), the output frames in chunks, and a check of every frame, as Slurm batch scripts
 //! ([`slurm`]) or an Open Job Description template ([`openjd`]). Both are written from one
-//! [`Shot`] and its [`Plan`]: the `mcctrace` command line of every task.
+//! [`Shot`] and its [`Plan`]: the `mcctrace` command line of every task. A big still
+//! ([`Still`], docs/farm.md "Big stills") is one `render` or `rerender` cut into bands, then
+//! merged, written by the same two writers.
 //!
 //! Nothing here renders: the generated tasks run the `mcctrace` binary. Nothing here prints or
 //! parses arguments either; the command line is `mcctrace farm`.
@@ -11,9 +13,11 @@ pub mod openjd;
 mod quote;
 pub mod shot;
 pub mod slurm;
+pub mod still;
 mod yaml;
 
 pub use shot::{FrameSpan, Key, Pass, Plan, Resources, Shot, ViewTask};
+pub use still::{Still, StillStage};
 
 use std::path::PathBuf;
 

@@ -7,7 +7,7 @@
 //! are skipped.
 
 use crate::quote::{sh, wrap};
-use crate::shot::{Plan, Stage, Word};
+use crate::shot::{Plan, Stage, StageResources, Word};
 use crate::yaml::{Node, document, s};
 use crate::{Result, write_file};
 use std::path::PathBuf;
@@ -35,10 +35,12 @@ fn arg(w: &Word) -> String {
         Word::ViewId => "{{Task.Param.ViewId}}".into(),
         Word::Frames => "$first..=$last".into(),
         Word::ShotFrames => SHOT_FRAMES.into(),
+        Word::Tile(n) => format!("{{{{Task.Param.Band}}}}/{n}"),
     }
 }
 
-fn param(name: &str, kind: &str, range: Node) -> Node {
+/// A task parameter's definition.
+pub(crate) fn param(name: &str, kind: &str, range: Node) -> Node {
     Node::Map(vec![("name", s(name)), ("type", s(kind)), ("range", range)])
 }
 
@@ -61,117 +63,167 @@ fn frames_script(plan: &Plan) -> String {
     )
 }
 
+/// A step of a template: what it runs, over which tasks, after which step, with what.
+pub(crate) struct Step {
+    /// Its name.
+    pub name: &'static str,
+    /// Its parameter space, if it has more than one task.
+    pub space: Option<Node>,
+    /// The program the action runs.
+    pub command: Node,
+    /// Its arguments.
+    pub args: Vec<Node>,
+    /// Files embedded in the step (a script the action runs).
+    pub files: Vec<Node>,
+    /// The step it depends on.
+    pub after: Option<&'static str>,
+    /// What each task needs.
+    pub resources: StageResources,
+}
+
+impl Step {
+    /// The step as a template node: the action's timeout is the time limit, CPUs and memory host
+    /// requirements.
+    pub(crate) fn node(self) -> Node {
+        let r = self.resources;
+        let mut entries = vec![("name", s(self.name))];
+        if let Some(space) = self.space {
+            entries.push(("parameterSpace", space));
+        }
+        let on_run = Node::Map(vec![
+            ("command", self.command),
+            ("args", Node::List(self.args)),
+            ("timeout", Node::Int(i64::from(r.time_minutes) * 60)),
+        ]);
+        let mut script = vec![("actions", Node::Map(vec![("onRun", on_run)]))];
+        if !self.files.is_empty() {
+            script.push(("embeddedFiles", Node::List(self.files)));
+        }
+        entries.push(("script", Node::Map(script)));
+        if let Some(before) = self.after {
+            entries.push(("dependencies", Node::List(vec![Node::Map(vec![("dependsOn", s(before))])])));
+        }
+        let amount =
+            |name: &str, min: u64| Node::Map(vec![("name", s(name)), ("min", Node::Int(min as i64))]);
+        entries.push((
+            "hostRequirements",
+            Node::Map(vec![(
+                "amounts",
+                Node::List(vec![
+                    amount("amount.worker.vcpu", u64::from(r.cpus)),
+                    amount("amount.worker.memory", r.mem_mib),
+                ]),
+            )]),
+        ));
+        Node::Map(entries)
+    }
+}
+
+/// An action running the bash script `text`, embedded in its step as the file `Run`: (command,
+/// arguments, embedded files) of a [`Step`].
+pub(crate) fn run_script(text: String) -> (Node, Vec<Node>, Vec<Node>) {
+    let file = Node::Map(vec![
+        ("name", s("Run")),
+        ("type", s("TEXT")),
+        ("runnable", Node::Bool(true)),
+        ("data", Node::Block(text)),
+    ]);
+    (s("bash"), vec![s("{{Task.File.Run}}")], vec![file])
+}
+
+/// An INT job parameter.
+pub(crate) fn int_param(name: &str, default: u32, min: i64, what: &str) -> Node {
+    Node::Map(vec![
+        ("name", s(name)),
+        ("type", s("INT")),
+        ("minValue", Node::Int(min)),
+        ("default", Node::Int(i64::from(default))),
+        ("description", s(what)),
+    ])
+}
+
+/// A whole template: its name, description, job parameters and steps, as YAML after a comment.
+pub(crate) fn job_template(
+    comment: &str,
+    name: String,
+    description: &str,
+    params: Vec<Node>,
+    steps: Vec<Node>,
+) -> String {
+    let doc = Node::Map(vec![
+        ("specificationVersion", s("jobtemplate-2023-09")),
+        ("name", s(name)),
+        ("description", s(description)),
+        ("parameterDefinitions", Node::List(params)),
+        ("steps", Node::List(steps)),
+    ]);
+    format!("# {comment}\n{}", document(&doc))
+}
+
 fn step(plan: &Plan, stage: Stage) -> Node {
-    let r = plan.resources(stage);
-    let mut entries = vec![("name", s(step_name(stage)))];
+    let mut space = None;
     match stage {
         Stage::Views => {
             let ints = |f: &dyn Fn(&crate::ViewTask) -> u32| {
                 Node::List(plan.views.iter().map(|v| Node::Int(i64::from(f(v)))).collect())
             };
             let cameras = Node::List(plan.views.iter().map(|v| s(v.camera.clone())).collect());
-            entries.push((
-                "parameterSpace",
-                Node::Map(vec![
-                    (
-                        "taskParameterDefinitions",
-                        Node::List(vec![
-                            param("KeyFrame", "INT", ints(&|v| v.frame)),
-                            param("Camera", "STRING", cameras),
-                            param("ViewId", "INT", ints(&|v| v.id)),
-                        ]),
-                    ),
-                    // Zipped, not crossed: task i takes the i-th value of each.
-                    ("combination", s("(KeyFrame, Camera, ViewId)")),
-                ]),
-            ));
+            space = Some(Node::Map(vec![
+                (
+                    "taskParameterDefinitions",
+                    Node::List(vec![
+                        param("KeyFrame", "INT", ints(&|v| v.frame)),
+                        param("Camera", "STRING", cameras),
+                        param("ViewId", "INT", ints(&|v| v.id)),
+                    ]),
+                ),
+                // Zipped, not crossed: task i takes the i-th value of each.
+                ("combination", s("(KeyFrame, Camera, ViewId)")),
+            ]));
         }
         Stage::Frames => {
             let range = s("{{Param.FirstFrame}}-{{Param.LastFrame}}:{{Param.ChunkSize}}");
-            entries.push((
-                "parameterSpace",
-                Node::Map(vec![(
-                    "taskParameterDefinitions",
-                    Node::List(vec![param("ChunkStart", "INT", range)]),
-                )]),
-            ));
+            space = Some(Node::Map(vec![(
+                "taskParameterDefinitions",
+                Node::List(vec![param("ChunkStart", "INT", range)]),
+            )]));
         }
         Stage::Keys | Stage::Check => {}
     }
     let (command, args, files) = if stage == Stage::Frames {
-        let file = Node::Map(vec![
-            ("name", s("Run")),
-            ("type", s("TEXT")),
-            ("runnable", Node::Bool(true)),
-            ("data", Node::Block(frames_script(plan))),
-        ]);
-        (s("bash"), vec![s("{{Task.File.Run}}")], vec![file])
+        run_script(frames_script(plan))
     } else {
         let args = plan.command(stage).iter().map(|w| s(arg(w))).collect();
         (s(plan.shot.mcctrace.display().to_string()), args, vec![])
     };
-    let on_run = Node::Map(vec![
-        ("command", command),
-        ("args", Node::List(args)),
-        ("timeout", Node::Int(i64::from(r.time_minutes) * 60)),
-    ]);
-    let mut script = vec![("actions", Node::Map(vec![("onRun", on_run)]))];
-    if !files.is_empty() {
-        script.push(("embeddedFiles", Node::List(files)));
-    }
-    entries.push(("script", Node::Map(script)));
     let before = Stage::ALL.iter().position(|&x| x == stage).and_then(|i| i.checked_sub(1));
-    if let Some(i) = before {
-        entries.push((
-            "dependencies",
-            Node::List(vec![Node::Map(vec![("dependsOn", s(step_name(Stage::ALL[i])))])]),
-        ));
+    Step {
+        name: step_name(stage),
+        space,
+        command,
+        args,
+        files,
+        after: before.map(|i| step_name(Stage::ALL[i])),
+        resources: plan.resources(stage),
     }
-    let amount = |name: &str, min: u64| Node::Map(vec![("name", s(name)), ("min", Node::Int(min as i64))]);
-    entries.push((
-        "hostRequirements",
-        Node::Map(vec![(
-            "amounts",
-            Node::List(vec![
-                amount("amount.worker.vcpu", u64::from(r.cpus)),
-                amount("amount.worker.memory", r.mem_mib),
-            ]),
-        )]),
-    ));
-    Node::Map(entries)
+    .node()
 }
 
 /// The job template of the shot, as YAML.
 pub fn template(plan: &Plan) -> String {
     let sh = &plan.shot;
-    let int = |name: &str, default: u32, min: i64, what: &str| {
-        Node::Map(vec![
-            ("name", s(name)),
-            ("type", s("INT")),
-            ("minValue", Node::Int(min)),
-            ("default", Node::Int(i64::from(default))),
-            ("description", s(what)),
-        ])
-    };
-    let doc = Node::Map(vec![
-        ("specificationVersion", s("jobtemplate-2023-09")),
-        ("name", s(format!("mcctrace shot {}", sh.dir.display()))),
-        (
-            "description",
-            s("Written by `mcctrace farm openjd`: the source views of every key frame, `keys`, the output \
-               frames in chunks, then every frame checked and the preview. Edit freely."),
-        ),
-        (
-            "parameterDefinitions",
-            Node::List(vec![
-                int("FirstFrame", sh.frames.first, 0, "The shot's first output frame."),
-                int("LastFrame", sh.frames.last, 0, "The shot's last output frame."),
-                int("ChunkSize", sh.chunk, 1, "Output frames per task."),
-            ]),
-        ),
-        ("steps", Node::List(Stage::ALL.iter().map(|&st| step(plan, st)).collect())),
-    ]);
-    format!("# mcctrace farm: shot {}\n{}", sh.dir.display(), document(&doc))
+    job_template(
+        &format!("mcctrace farm: shot {}", sh.dir.display()),
+        format!("mcctrace shot {}", sh.dir.display()),
+        "Written by `mcctrace farm openjd`: the source views of every key frame, `keys`, the output frames \
+         in chunks, then every frame checked and the preview. Edit freely.",
+        vec![
+            int_param("FirstFrame", sh.frames.first, 0, "The shot's first output frame."),
+            int_param("LastFrame", sh.frames.last, 0, "The shot's last output frame."),
+            int_param("ChunkSize", sh.chunk, 1, "Output frames per task."),
+        ],
+        Stage::ALL.iter().map(|&st| step(plan, st)).collect(),
+    )
 }
 
 /// Writes the template into the shot folder; returns its path.

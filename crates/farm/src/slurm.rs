@@ -9,17 +9,17 @@
 //! frames are skipped), and a failed stage cancels the ones after it (`--kill-on-invalid-dep`).
 
 use crate::quote::{sh, sh_words, wrap};
-use crate::shot::{Plan, Stage, Word};
+use crate::shot::{Plan, Stage, StageResources, Word};
 use crate::{FarmError, Result, write_file};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// The scripts written for a shot.
+/// The scripts written for a shot (or a still).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Scripts {
-    /// The batch script of each stage, in order.
-    pub stages: Vec<(Stage, PathBuf)>,
+    /// Each stage's name and batch script, in order.
+    pub stages: Vec<(&'static str, PathBuf)>,
     /// The script that submits them in order.
     pub submit: PathBuf,
 }
@@ -27,8 +27,8 @@ pub struct Scripts {
 /// A submitted stage.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Submitted {
-    /// The stage.
-    pub stage: Stage,
+    /// The stage's name.
+    pub stage: &'static str,
     /// Its Slurm job id (an array's, for the views and frames).
     pub job_id: String,
 }
@@ -36,15 +36,20 @@ pub struct Submitted {
 /// The batch script of `stage`, the file name it is written under.
 pub fn script_name(stage: Stage) -> String {
     let n = Stage::ALL.iter().position(|&s| s == stage).unwrap_or(0) + 1;
-    format!("{n}-{}.sbatch", stage.name())
+    numbered_script(n, stage.name())
 }
 
-/// A job name: the shot folder's name (letters, digits, `-`, `_`) and the stage.
-fn job_name(plan: &Plan, stage: Stage) -> String {
-    let shot = plan.shot.dir.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+/// The batch script of the `n`-th stage (1-based), `name`.
+pub(crate) fn numbered_script(n: usize, name: &str) -> String {
+    format!("{n}-{name}.sbatch")
+}
+
+/// A job name: the job folder's name (letters, digits, `-`, `_`) and the stage.
+fn job_name(dir: &Path, stage: &str) -> String {
+    let shot = dir.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let shot: String =
         shot.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' { c } else { '_' }).collect();
-    if shot.is_empty() { format!("mcc-{}", stage.name()) } else { format!("mcc-{shot}-{}", stage.name()) }
+    if shot.is_empty() { format!("mcc-{stage}") } else { format!("mcc-{shot}-{stage}") }
 }
 
 /// A `#SBATCH` value: sbatch reads these lines itself and takes double quotes around a value.
@@ -52,31 +57,91 @@ fn directive_value(v: &str) -> String {
     if v.contains([' ', '\t']) { format!("\"{v}\"") } else { v.to_owned() }
 }
 
-/// The command as a bash line; per-task values come from the script's variables.
-fn command_line(plan: &Plan, stage: Stage) -> String {
+/// `command` as a bash line running `$MCCTRACE`; per-task values come from the script's
+/// variables (the shot's frames are `shot_frames`); with `threads`, the render takes the CPUs
+/// Slurm gave the task.
+pub(crate) fn command_line(command: Vec<Word>, shot_frames: &str, threads: bool) -> String {
     let mut words = vec![r#""$MCCTRACE""#.to_owned()];
-    for w in plan.command(stage) {
+    for w in command {
         words.push(match w {
             Word::Text(t) => sh(&t),
             Word::KeyFrame => r#""${frames[i]}""#.into(),
             Word::Camera => r#""${cameras[i]}""#.into(),
             Word::ViewId => r#""${ids[i]}""#.into(),
             Word::Frames => r#""$first..=$last""#.into(),
-            Word::ShotFrames => sh(&plan.shot.frames.to_string()),
+            Word::ShotFrames => sh(shot_frames),
+            Word::Tile(n) => format!(r#""$i/{n}""#),
         });
     }
     // Slurm tells the task how many CPUs it has; without it, the renders take all of a shared
-    // node's (`keys` has no such flag).
-    if stage != Stage::Keys {
+    // node's.
+    if threads {
         words.push(r#"--threads "${SLURM_CPUS_PER_TASK:-1}""#.into());
     }
     wrap(&words)
 }
 
+/// The first lines of a stage's batch script: what it does, its `#SBATCH` directives, strict
+/// bash and the program every task runs.
+pub(crate) struct Header<'a> {
+    /// What is farmed: `shot` or `still`.
+    pub kind: &'a str,
+    /// The job folder (its name names the jobs; logs go to its `logs/`).
+    pub dir: &'a Path,
+    /// The stage's name.
+    pub stage: &'a str,
+    /// What the stage does, for the comment.
+    pub what: &'a str,
+    /// The array's task ids (`0-3`, `1-8`), if the stage is an array.
+    pub array: Option<String>,
+    /// What each task asks for.
+    pub resources: StageResources,
+    /// The partition, if any.
+    pub partition: Option<&'a str>,
+    /// Whether a stage runs before this one (a failure there cancels this one).
+    pub after: bool,
+    /// The `mcctrace` program.
+    pub mcctrace: &'a Path,
+}
+
+impl Header<'_> {
+    pub(crate) fn write(&self, t: &mut String) {
+        let r = &self.resources;
+        let _ = writeln!(t, "#!/usr/bin/env bash");
+        let _ = writeln!(t, "# mcctrace farm, {} {}: {}.", self.kind, self.dir.display(), self.what);
+        let _ = writeln!(
+            t,
+            "# Written by `mcctrace farm slurm`; edit freely. submit.sh submits the stages in order."
+        );
+        let _ = writeln!(t, "#SBATCH --job-name={}", job_name(self.dir, self.stage));
+        if let Some(array) = &self.array {
+            let _ = writeln!(t, "#SBATCH --array={array}");
+        }
+        let _ = writeln!(t, "#SBATCH --cpus-per-task={}", r.cpus);
+        let _ = writeln!(t, "#SBATCH --mem={}M", r.mem_mib);
+        let _ = writeln!(t, "#SBATCH --time={}", r.time_minutes);
+        if let Some(p) = self.partition {
+            let _ = writeln!(t, "#SBATCH --partition={p}");
+        }
+        let log = self.dir.join("logs").join(if self.array.is_some() { "%x-%A_%a.out" } else { "%x-%j.out" });
+        let _ = writeln!(t, "#SBATCH --output={}", directive_value(&log.display().to_string()));
+        let _ = writeln!(t, "#SBATCH --requeue");
+        if self.after {
+            let _ = writeln!(t, "#SBATCH --kill-on-invalid-dep=yes");
+        }
+        let _ = writeln!(t, "set -euo pipefail\n");
+        let _ = writeln!(t, "MCCTRACE={}", sh(&self.mcctrace.display().to_string()));
+    }
+}
+
+/// The line that takes array task `i`'s id (refusing to run outside an array of `ids`).
+pub(crate) fn array_task(ids: &str) -> String {
+    format!("i=${{SLURM_ARRAY_TASK_ID:?run this as an array task: sbatch --array={ids}}}")
+}
+
 /// The batch script of `stage`.
 pub fn script(plan: &Plan, stage: Stage) -> String {
     let s = &plan.shot;
-    let r = plan.resources(stage);
     let tasks = plan.tasks(stage);
     let what = match stage {
         Stage::Views => "the source views of every key frame, one array task per key frame and camera",
@@ -88,35 +153,21 @@ pub fn script(plan: &Plan, stage: Stage) -> String {
         }
         Stage::Check => "every frame checked over the whole shot, and the preview",
     };
+    let array =
+        matches!(stage, Stage::Views | Stage::Frames).then(|| format!("0-{}", tasks.saturating_sub(1)));
     let mut t = String::new();
-    let _ = writeln!(t, "#!/usr/bin/env bash");
-    let _ = writeln!(t, "# mcctrace farm, shot {}: {what}.", s.dir.display());
-    let _ = writeln!(
-        t,
-        "# Written by `mcctrace farm slurm`; edit freely. submit.sh submits the stages in order."
-    );
-    let _ = writeln!(t, "#SBATCH --job-name={}", job_name(plan, stage));
-    if matches!(stage, Stage::Views | Stage::Frames) {
-        let _ = writeln!(t, "#SBATCH --array=0-{}", tasks.saturating_sub(1));
+    Header {
+        kind: "shot",
+        dir: &s.dir,
+        stage: stage.name(),
+        what,
+        array: array.clone(),
+        resources: plan.resources(stage),
+        partition: s.resources.partition.as_deref(),
+        after: stage != Stage::Views,
+        mcctrace: &s.mcctrace,
     }
-    let _ = writeln!(t, "#SBATCH --cpus-per-task={}", r.cpus);
-    let _ = writeln!(t, "#SBATCH --mem={}M", r.mem_mib);
-    let _ = writeln!(t, "#SBATCH --time={}", r.time_minutes);
-    if let Some(p) = &s.resources.partition {
-        let _ = writeln!(t, "#SBATCH --partition={p}");
-    }
-    let log = plan.path("logs").join(if tasks > 1 || stage == Stage::Frames || stage == Stage::Views {
-        "%x-%A_%a.out"
-    } else {
-        "%x-%j.out"
-    });
-    let _ = writeln!(t, "#SBATCH --output={}", directive_value(&log.display().to_string()));
-    let _ = writeln!(t, "#SBATCH --requeue");
-    if stage != Stage::Views {
-        let _ = writeln!(t, "#SBATCH --kill-on-invalid-dep=yes");
-    }
-    let _ = writeln!(t, "set -euo pipefail\n");
-    let _ = writeln!(t, "MCCTRACE={}", sh(&s.mcctrace.display().to_string()));
+    .write(&mut t);
     match stage {
         Stage::Views => {
             let col = |f: &dyn Fn(&crate::ViewTask) -> String| {
@@ -129,47 +180,46 @@ pub fn script(plan: &Plan, stage: Stage) -> String {
             let _ = writeln!(t, "frames=({})", col(&|v| v.frame.to_string()));
             let _ = writeln!(t, "cameras=({})", col(&|v| v.camera.clone()));
             let _ = writeln!(t, "ids=({})", col(&|v| v.id.to_string()));
-            let _ = writeln!(
-                t,
-                "i=${{SLURM_ARRAY_TASK_ID:?run this as an array task: sbatch --array=0-{}}}",
-                tasks - 1
-            );
+            let _ = writeln!(t, "{}", array_task(array.as_deref().unwrap_or_default()));
         }
         Stage::Frames => {
             let _ = writeln!(t, "# Task i renders CHUNK frames from FIRST + i * CHUNK, up to LAST.");
             let _ = writeln!(t, "FIRST={} LAST={} CHUNK={}", s.frames.first, s.frames.last, s.chunk);
-            let _ = writeln!(
-                t,
-                "i=${{SLURM_ARRAY_TASK_ID:?run this as an array task: sbatch --array=0-{}}}",
-                tasks - 1
-            );
+            let _ = writeln!(t, "{}", array_task(array.as_deref().unwrap_or_default()));
             let _ = writeln!(t, "first=$((FIRST + i * CHUNK))");
             let _ = writeln!(t, "last=$((first + CHUNK - 1))");
             let _ = writeln!(t, "if ((last > LAST)); then last=$LAST; fi");
         }
         Stage::Keys | Stage::Check => {}
     }
-    let _ = writeln!(t, "\n{}", command_line(plan, stage));
+    // `keys` has no --threads flag.
+    let command = command_line(plan.command(stage), &s.frames.to_string(), stage != Stage::Keys);
+    let _ = writeln!(t, "\n{command}");
     t
 }
 
 /// `submit.sh`: submits the stages in order, each after the one before, and prints their ids.
 pub fn submit_script(plan: &Plan) -> String {
+    let stages: Vec<(&str, String)> = Stage::ALL.iter().map(|&s| (s.name(), script_name(s))).collect();
+    chain_script(&plan.path("slurm"), &stages, "Re-run it to resume: finished frames are skipped.")
+}
+
+/// A `submit.sh` submitting `stages` (name, script file in `dir`) in order, each after the one
+/// before succeeded; `resume` says what re-running it does.
+pub(crate) fn chain_script(dir: &Path, stages: &[(&str, String)], resume: &str) -> String {
     let mut t = String::new();
     let _ = writeln!(t, "#!/usr/bin/env bash");
     let _ =
         writeln!(t, "# Submits the shot's stages in order, each after the one before succeeded (afterok).");
-    let _ =
-        writeln!(t, "# Written by `mcctrace farm slurm`. Re-run it to resume: finished frames are skipped.");
+    let _ = writeln!(t, "# Written by `mcctrace farm slurm`. {resume}");
     let _ = writeln!(t, "set -euo pipefail");
-    let _ = writeln!(t, "cd {}", sh(&plan.path("slurm").display().to_string()));
+    let _ = writeln!(t, "cd {}", sh(&dir.display().to_string()));
     let _ = writeln!(t, "after=()");
-    for stage in Stage::ALL {
-        let name = stage.name();
-        let _ = writeln!(t, "{name}=$(sbatch --parsable \"${{after[@]}}\" {})", script_name(stage));
+    for (n, (name, script)) in stages.iter().enumerate() {
+        let _ = writeln!(t, "{name}=$(sbatch --parsable \"${{after[@]}}\" {script})");
         let _ = writeln!(t, "{name}=${{{name}%%;*}}");
         let _ = writeln!(t, "echo \"{name}: job ${name}\"");
-        if stage != Stage::Check {
+        if n + 1 < stages.len() {
             let _ = writeln!(t, "after=(--dependency=afterok:${name})");
         }
     }
@@ -179,19 +229,30 @@ pub fn submit_script(plan: &Plan) -> String {
 /// Writes the stage scripts and `submit.sh` into `DIR/slurm/` (and makes `DIR/logs/`, where the
 /// tasks' output goes: Slurm does not create it).
 pub fn write(plan: &Plan) -> Result<Scripts> {
-    let dir = plan.path("slurm");
-    let logs = plan.path("logs");
+    let stages: Vec<_> = Stage::ALL.iter().map(|&s| (s.name(), script_name(s), script(plan, s))).collect();
+    write_scripts(&plan.shot.dir, &stages, &submit_script(plan))
+}
+
+/// Writes `stages` (name, file name, text) and `submit` into `dir/slurm/`, and makes `dir/logs/`
+/// (Slurm does not create it).
+pub(crate) fn write_scripts(
+    dir: &Path,
+    stages: &[(&'static str, String, String)],
+    submit: &str,
+) -> Result<Scripts> {
+    let logs = dir.join("logs");
     std::fs::create_dir_all(&logs)
         .map_err(|e| FarmError::Write { path: logs.clone(), message: e.to_string() })?;
-    let mut stages = Vec::new();
-    for stage in Stage::ALL {
-        let path = dir.join(script_name(stage));
-        write_file(&path, &script(plan, stage), true)?;
-        stages.push((stage, path));
+    let dir = dir.join("slurm");
+    let mut written = Vec::new();
+    for (name, file, text) in stages {
+        let path = dir.join(file);
+        write_file(&path, text, true)?;
+        written.push((*name, path));
     }
-    let submit = dir.join("submit.sh");
-    write_file(&submit, &submit_script(plan), true)?;
-    Ok(Scripts { stages, submit })
+    let path = dir.join("submit.sh");
+    write_file(&path, submit, true)?;
+    Ok(Scripts { stages: written, submit: path })
 }
 
 /// Submits the scripts with `sbatch` (`sbatch` on PATH, or the program given), each stage after
@@ -214,7 +275,7 @@ pub fn submit(scripts: &Scripts, sbatch: Option<&Path>) -> Result<Vec<Submitted>
         let stdout = String::from_utf8_lossy(&out.stdout);
         if !out.status.success() {
             let said = String::from_utf8_lossy(&out.stderr);
-            let earlier = done.iter().map(|s| format!("{} {}", s.stage.name(), s.job_id)).collect::<Vec<_>>();
+            let earlier = done.iter().map(|s| format!("{} {}", s.stage, s.job_id)).collect::<Vec<_>>();
             return Err(fail(format!(
                 "sbatch exited with {}: {}{}",
                 out.status,
@@ -231,7 +292,7 @@ pub fn submit(scripts: &Scripts, sbatch: Option<&Path>) -> Result<Vec<Submitted>
         if id.is_empty() || !id.chars().all(|c| c.is_ascii_digit()) {
             return Err(fail(format!("sbatch printed {:?}, not a job id", stdout.trim())));
         }
-        done.push(Submitted { stage: *stage, job_id: id });
+        done.push(Submitted { stage, job_id: id });
     }
     Ok(done)
 }
@@ -294,7 +355,8 @@ mod tests {
         let plan = f.shot.plan().unwrap();
         let scripts = write(&plan).unwrap();
         assert!(plan.path("logs").is_dir(), "Slurm does not create the log folder");
-        let script = |stage| scripts.stages.iter().find(|(s, _)| *s == stage).unwrap().1.clone();
+        let script =
+            |stage: Stage| scripts.stages.iter().find(|(s, _)| *s == stage.name()).unwrap().1.clone();
         let mut views = Vec::new();
         for task in 0..4 {
             let calls = run(&script(Stage::Views), Some(task), &record);
@@ -373,11 +435,8 @@ mod tests {
             &format!("echo \"$*\" >> {log_q}\nn=$(wc -l < {log_q})\necho \"$((40 + n));cluster\"\n"),
         );
         let done = submit(&scripts, Some(&sbatch)).unwrap();
-        let ids: Vec<(Stage, &str)> = done.iter().map(|s| (s.stage, s.job_id.as_str())).collect();
-        assert_eq!(
-            ids,
-            [(Stage::Views, "41"), (Stage::Keys, "42"), (Stage::Frames, "43"), (Stage::Check, "44")]
-        );
+        let ids: Vec<(&str, &str)> = done.iter().map(|s| (s.stage, s.job_id.as_str())).collect();
+        assert_eq!(ids, [("views", "41"), ("keys", "42"), ("frames", "43"), ("check", "44")]);
         let calls = std::fs::read_to_string(&log).unwrap();
         let calls: Vec<&str> = calls.lines().collect();
         assert!(calls[0].starts_with("--parsable ") && !calls[0].contains("--dependency"));

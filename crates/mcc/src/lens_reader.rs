@@ -146,6 +146,15 @@ impl LensReader {
         self
     }
 
+    /// Hands the reader of a directory the rays of `frame` (and, with motion blur, of the frame
+    /// after it, `None` when that has no file) already read by the caller, so `begin_frame` of
+    /// that frame reads no file (an animation hashes the same rays for its header).
+    pub fn with_frame(mut self, frame: u32, current: Arc<RayFile>, next: Option<Arc<RayFile>>) -> Self {
+        self.loaded = Some((frame, current));
+        self.next = next.and_then(|rays| Some((frame.checked_add(1)?, rays)));
+        self
+    }
+
     /// The sampler for the current frame (after `begin_frame`).
     pub fn sampler(&self) -> Option<&RaySampler> {
         self.current.as_ref()
@@ -386,6 +395,28 @@ mod tests {
         let s = CameraSample { time: 4.5, ..s };
         let ray = chain.generator(cam.as_ref()).generate(&s).unwrap();
         assert_eq!(ray.origin, field(10, 8, 14).get(2, 1).origin);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// Rays handed over with `with_frame` are used as they are: the frame renders with its file
+    /// gone, blending into the next frame's rays handed with it.
+    #[test]
+    fn rays_handed_over_are_not_read_again() {
+        let dir = scratch_dir("lens-reader-handed");
+        let (this, next) = (Arc::new(field(10, 8, 21)), Arc::new(field(10, 8, 22)));
+        let cam = camera(UVec2::new(10, 8));
+        let mut chain = LensChain::new();
+        let reader = LensReader::new(RaySource::Directory(dir.clone())).with_motion_blur(true).with_frame(
+            6,
+            this.clone(),
+            Some(next.clone()),
+        );
+        chain.push(Box::new(reader));
+        chain.begin_frame(cam.as_ref(), FrameInfo { frame: 6, camera_id: 0, shutter: (6.0, 6.5) }).unwrap();
+        let s = CameraSample { p_film: Vec2::new(2.5, 1.5), p_lens: Vec2::splat(0.5), time: 6.5 };
+        let ray = chain.generator(cam.as_ref()).generate(&s).unwrap();
+        let want = lerp_rays(this.get(2, 1), next.get(2, 1), 0.5);
+        assert!(close(&StoredRay::new(ray.origin, ray.direction), &want));
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

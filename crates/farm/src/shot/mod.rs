@@ -167,6 +167,8 @@ pub enum Word {
     Frames,
     /// The whole shot's frames, `A..=B` (a job parameter where the scheduler has them).
     ShotFrames,
+    /// A still's band task's `--tile` value, `I/N` with this N (docs/farm.md, "Big stills").
+    Tile(u32),
 }
 
 /// One source view to render.
@@ -178,6 +180,43 @@ pub struct ViewTask {
     pub camera: String,
     /// Its view number (1-based, in the key's camera order).
     pub id: u32,
+}
+
+impl Resources {
+    /// Refuses what no scheduler takes, naming the flag.
+    pub(crate) fn check(&self) -> Result<()> {
+        if self.cpus == Some(0) {
+            return Err(bad("--cpus-per-task", "0 CPUs: need at least 1"));
+        }
+        if self.mem_mib == Some(0) {
+            return Err(bad("--mem", "0 MiB: need some memory"));
+        }
+        if self.time_minutes == Some(0) {
+            return Err(bad("--time", "a time limit of 0 minutes: need at least 1"));
+        }
+        if let Some(p) = &self.partition
+            && (p.is_empty() || !p.chars().all(|c| c.is_ascii_alphanumeric() || "-_.,".contains(c)))
+        {
+            return Err(bad(
+                "--partition",
+                format!("{p:?} is not a partition name (letters, digits, - _ . ,)"),
+            ));
+        }
+        Ok(())
+    }
+
+    /// These resources, defaults filled in for a task over a picture of `pixels` pixels, tracing
+    /// `samples` samples (0: renders nothing) and holding `layers` pictures' worth of memory.
+    pub(crate) fn for_task(&self, pixels: u64, samples: u64, layers: u64) -> StageResources {
+        // Small pictures do not pay for a second thread's start-up; larger ones get four.
+        let cpus = self.cpus.unwrap_or(if samples == 0 || pixels <= 256 * 256 { 1 } else { 4 });
+        let mem_mib =
+            self.mem_mib.unwrap_or(BASE_MIB + (pixels * BYTES_PER_PIXEL * layers).div_ceil(1 << 20));
+        let minutes = (samples / (SAMPLES_PER_CPU_SECOND * u64::from(cpus))).div_ceil(60);
+        let time_minutes =
+            self.time_minutes.unwrap_or((4 * minutes).max(LEAST_MINUTES).min(u64::from(u32::MAX)) as u32);
+        StageResources { cpus, mem_mib, time_minutes }
+    }
 }
 
 /// Resources of one stage's tasks, defaults filled in.
@@ -253,24 +292,7 @@ impl Shot {
         }
         shot.views.check("--view-res", "--view-spp")?;
         shot.output.check("--res", "--spp")?;
-        let r = &shot.resources;
-        if r.cpus == Some(0) {
-            return Err(bad("--cpus-per-task", "0 CPUs: need at least 1"));
-        }
-        if r.mem_mib == Some(0) {
-            return Err(bad("--mem", "0 MiB: need some memory"));
-        }
-        if r.time_minutes == Some(0) {
-            return Err(bad("--time", "a time limit of 0 minutes: need at least 1"));
-        }
-        if let Some(p) = &r.partition
-            && (p.is_empty() || !p.chars().all(|c| c.is_ascii_alphanumeric() || "-_.,".contains(c)))
-        {
-            return Err(bad(
-                "--partition",
-                format!("{p:?} is not a partition name (letters, digits, - _ . ,)"),
-            ));
-        }
+        shot.resources.check()?;
         if !shot.scene.exists() {
             return Err(bad("SCENE", format!("{}: no such file or folder", shot.scene.display())));
         }
@@ -332,7 +354,7 @@ impl Plan {
                 c.push(Word::ViewId);
                 c.extend(Self::text(["--frame"]));
                 c.push(Word::KeyFrame);
-                c.extend(Self::text(["--lens-writer", "--tag", "--out"]));
+                c.extend(Self::text(["--lens-writer", "--tag", "--resume", "--out"]));
                 c.push(Self::word(&self.path("views")));
                 c.extend(s.views.flags().into_iter().map(Word::Text));
             }
@@ -394,16 +416,7 @@ impl Plan {
         };
         let pixels = u64::from(pixels.0) * u64::from(pixels.1);
         let layers = if stage == Stage::Keys { 2 + s.keys.len() as u64 } else { 1 };
-        // Small pictures do not pay for a second thread's start-up; larger ones get four.
-        let cpus = s.resources.cpus.unwrap_or(if samples == 0 || pixels <= 256 * 256 { 1 } else { 4 });
-        let mem_mib =
-            s.resources.mem_mib.unwrap_or(BASE_MIB + (pixels * BYTES_PER_PIXEL * layers).div_ceil(1 << 20));
-        let minutes = (samples / (SAMPLES_PER_CPU_SECOND * u64::from(cpus))).div_ceil(60);
-        let time_minutes = s
-            .resources
-            .time_minutes
-            .unwrap_or((4 * minutes).max(LEAST_MINUTES).min(u64::from(u32::MAX)) as u32);
-        StageResources { cpus, mem_mib, time_minutes }
+        s.resources.for_task(pixels, samples, layers)
     }
 }
 

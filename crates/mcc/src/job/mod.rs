@@ -7,18 +7,21 @@
 //! - [`RemapJob`]: a collage remapped from its files ([`CollageFiles`]), debug pictures written
 //!   (`remap`, `rerender`, `keys`);
 //! - [`Rerender`]: the scene rendered through a collage's rays, from memory or a lens file
-//!   (`rerender`).
+//!   (`rerender`);
+//! - [`KeysRecord`]: what the ray files of `keys` were made from, to tell them finished.
 //!
 //! In-memory callers remap with [`crate::remap::remap`] directly and hand the rays to
 //! [`Rerender`]; progress and cancellation go through [`tracer::render::Progress`].
 
+mod keys_record;
 mod remap;
 mod rerender;
 mod view;
 
+pub use keys_record::{KeysRecord, RECORD_NAME, file_sha256};
 pub use remap::{CollageFiles, RemapJob, Remapped};
 pub use rerender::{
-    COLLAGE_KEY, Framing, LENS_DIR_KEY, LENS_FILE_KEY, Rerender, carrier_camera, lens_dir_digest,
+    COLLAGE_KEY, FrameRays, Framing, LENS_DIR_KEY, LENS_FILE_KEY, Rerender, carrier_camera, lens_dir_digest,
     stretch_warning,
 };
 pub use view::{ViewFiles, ViewRender};

@@ -40,6 +40,17 @@ impl CollageFiles {
         }
     }
 
+    /// The files a remap of this collage reads: the collage, its region image (given, or the
+    /// one beside the collage if there is one) and the frame's view ray files.
+    pub fn inputs(&self) -> Result<Vec<PathBuf>> {
+        let regions = match &self.regions {
+            Some(path) => Some(path.clone()),
+            None => Some(crate::regions::Regions::beside(&self.collage)).filter(|p| p.is_file()),
+        };
+        let rays = find_view_rays(&self.rays_dir, self.frame)?;
+        Ok(std::iter::once(self.collage.clone()).chain(regions).chain(rays.into_values()).collect())
+    }
+
     /// Remaps the collage: finds the frame's ray files, reads the collage (by its content: a
     /// tagged image or a layered file, [`open_collage`]) against them, finds the regions, loads
     /// the rays one file at a time and remaps. Stray pixels treated as background, and notes

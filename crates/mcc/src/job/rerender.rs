@@ -35,17 +35,64 @@ pub fn carrier_camera(resolution: UVec2) -> tracer::Result<Box<dyn Camera>> {
     CameraDesc::look_at("lens reader", Vec3::ZERO, -Vec3::Z, Vec3::Y, projection)?.build(resolution)
 }
 
-/// The hash ([`RayFile::digest`]) of the rays frame `frame` of an animation reads from the
-/// folder `dir`: its own ray file's, and with motion blur the next frame's too when there is
-/// one (the lens reader blends the two), joined by `+`.
-pub fn lens_dir_digest(dir: &Path, frame: u32, motion_blur: bool) -> Result<String> {
-    let mut digest = RayFile::read(&crate::names::find_rerender_rays(dir, frame)?)?.digest();
-    if let Some(next) = frame.checked_add(1).filter(|_| motion_blur)
-        && let Some(path) = crate::names::rerender_rays_if_any(dir, next)?
-    {
-        digest = format!("{digest}+{}", RayFile::read(&path)?.digest());
+/// The rays frame `frame` of an animation goes through, from the folder of per-frame ray files:
+/// its own file's, and with motion blur the next frame's when there is one (the lens reader
+/// blends the two). Read once, they give both the frame's header hash ([`FrameRays::digest`])
+/// and its render ([`crate::LensReader::with_frame`]).
+#[derive(Clone, Debug)]
+pub struct FrameRays {
+    /// The frame.
+    pub frame: u32,
+    /// Its own rays.
+    pub current: Arc<RayFile>,
+    /// With motion blur, the next frame's rays, if it has a file.
+    pub next: Option<Arc<RayFile>>,
+}
+
+impl FrameRays {
+    /// Reads the rays of `frame` from `dir`; rays `earlier` holds (the frame before, whose next
+    /// is this frame) are taken from it instead of read again.
+    pub fn read(dir: &Path, frame: u32, motion_blur: bool, earlier: Option<&FrameRays>) -> Result<Self> {
+        let held = |f: u32| {
+            earlier
+                .into_iter()
+                .flat_map(|e| {
+                    [(e.frame, &e.current)].into_iter().chain(e.next.as_ref().map(|n| (e.frame + 1, n)))
+                })
+                .find(|(g, _)| *g == f)
+                .map(|(_, r)| r.clone())
+        };
+        let current = match held(frame) {
+            Some(rays) => rays,
+            None => Arc::new(RayFile::read(&crate::names::find_rerender_rays(dir, frame)?)?),
+        };
+        let next = match frame.checked_add(1).filter(|_| motion_blur) {
+            Some(f) => match held(f) {
+                Some(rays) => Some(rays),
+                None => crate::names::rerender_rays_if_any(dir, f)?
+                    .map(|p| RayFile::read(&p).map(Arc::new))
+                    .transpose()?,
+            },
+            None => None,
+        };
+        Ok(Self { frame, current, next })
     }
-    Ok(digest)
+
+    /// The hash ([`RayFile::digest`]) the frame's header records: its own rays', and the next
+    /// frame's joined by `+` when it blends them.
+    pub fn digest(&self) -> String {
+        let mut digest = self.current.digest();
+        if let Some(next) = &self.next {
+            digest = format!("{digest}+{}", next.digest());
+        }
+        digest
+    }
+}
+
+/// The hash ([`FrameRays::digest`]) of the rays frame `frame` of an animation reads from the
+/// folder `dir`.
+pub fn lens_dir_digest(dir: &Path, frame: u32, motion_blur: bool) -> Result<String> {
+    Ok(FrameRays::read(dir, frame, motion_blur, None)?.digest())
 }
 
 /// How the film of a render through a ray file is framed when an overscan border is cut off:
@@ -285,6 +332,28 @@ mod tests {
     use crate::test_util::sky_scene;
     use tracer::TracerError;
     use tracer::render::NoProgress;
+
+    /// A frame's rays are read once: the next frame's, held by the frame before, are taken from
+    /// it (its file may be gone); the hash joins both with motion blur, as the header records it.
+    #[test]
+    fn frame_rays_are_read_once_and_hashed_together() {
+        let dir = crate::test_util::scratch_dir("frame-rays");
+        let (a, b) =
+            (rays(4, 3), RayFile { rays: rays(4, 3).rays.into_iter().rev().collect(), ..rays(4, 3) });
+        let format = crate::ray_file::RayFormat::Binary;
+        a.write(&dir.join(crate::names::rerender_name(3, format)), format).unwrap();
+        b.write(&dir.join(crate::names::rerender_name(4, format)), format).unwrap();
+        let third = FrameRays::read(&dir, 3, true, None).unwrap();
+        assert_eq!(third.digest(), format!("{}+{}", a.digest(), b.digest()));
+        assert_eq!(lens_dir_digest(&dir, 3, true).unwrap(), third.digest());
+        assert_eq!(lens_dir_digest(&dir, 3, false).unwrap(), a.digest());
+        std::fs::remove_file(dir.join(crate::names::rerender_name(4, format))).unwrap();
+        let fourth = FrameRays::read(&dir, 4, true, Some(&third)).unwrap();
+        assert!(Arc::ptr_eq(&fourth.current, third.next.as_ref().unwrap()), "frame 4 is not read again");
+        assert!(fourth.next.is_none() && fourth.digest() == b.digest());
+        assert!(FrameRays::read(&dir, 4, true, None).is_err(), "without them, the file is read");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 
     /// Rays looking down −Z from the origin, one per pixel of a `w` × `h` collage.
     fn rays(w: u32, h: u32) -> RayFile {

@@ -6,13 +6,14 @@
 use crate::error::{MccError, Result};
 use crate::lens_writer::LensWriter;
 use crate::names::view_rays_name;
-use crate::ray_file::RayFormat;
+use crate::ray_file::{RayFile, RayFormat};
 use crate::tag::TagCode;
 use std::path::{Path, PathBuf};
 use tracer::image::RgbImage;
 use tracer::image_io::{linear_to_srgb8, write_png_rgb8};
 use tracer::job::{
-    Band, CameraRender, Provenance, RenderInfo, SceneSetup, Stale, check_finished, write_exr, write_render,
+    Band, CameraRender, Companion, Provenance, RenderInfo, SceneSetup, Stale, check_finished_with, write_exr,
+    write_render,
 };
 use tracer::lens::LensChain;
 use tracer::render::{Progress, Rendered};
@@ -74,15 +75,53 @@ impl ViewRender<'_> {
         self.band.map(|b| b.rows(self.render.camera.resolution().y))
     }
 
+    /// The ray file the lens writer records for this view, if it records one.
+    pub fn rays_path(&self) -> Option<PathBuf> {
+        let dir = self.exr.parent().map(Path::to_path_buf).unwrap_or_default();
+        self.rays.map(|format| dir.join(view_rays_name(self.render.frame, self.render.camera_id, format)))
+    }
+
     /// `Ok` when the view's files on disk are a finished render of this job (docs/farm.md), so it
-    /// can be skipped; else why not. Rays and tags are not checked: a job asking for them is
-    /// never skipped by a caller that asks this first.
+    /// can be skipped; else why not. By `tracer::job::check_finished`'s rule, and with the
+    /// lens writer's ray file (there, read back whole, one ray per pixel of the view) and the
+    /// tag (every pixel of the PNG carries the view's number in this code) when the job makes
+    /// them.
     pub fn check(&self) -> std::result::Result<(), Stale> {
         let res = self.render.camera.resolution();
         let size = self.rows().map_or(res, |r| glam::UVec2::new(res.x, r.len() as u32));
         let png = self.exr.with_extension("png");
         let target = self.target();
-        check_finished(&target, self.band.is_none().then_some(png.as_path()), &self.info().settings(), size)
+        let id = self.render.camera_id;
+        let tagged = |path: &Path| -> std::result::Result<(), String> {
+            let code = self.tag.expect("checked only when tagging");
+            let image = crate::png::read_image(path).map_err(|e| e.to_string())?.to_rgb8();
+            match image.pixels().position(|p| code.decode(p.0) != id) {
+                None => Ok(()),
+                Some(at) => Err(format!(
+                    "pixel ({}, {}) is not tagged as view {id}",
+                    at as u32 % image.width(),
+                    at as u32 / image.width()
+                )),
+            }
+        };
+        let whole_rays = |path: &Path| -> std::result::Result<(), String> {
+            let rays = RayFile::read(path).map_err(|e| e.to_string())?;
+            let got = glam::UVec2::new(rays.width, rays.height);
+            if got != res {
+                return Err(format!("{}x{} rays, the view {}x{}", got.x, got.y, res.x, res.y));
+            }
+            Ok(())
+        };
+        let rays = self.rays_path();
+        let mut companions = Vec::new();
+        if self.tag.is_some() && self.band.is_none() {
+            companions.push(Companion { path: &png, check: &tagged });
+        }
+        if let Some(path) = &rays {
+            companions.push(Companion { path, check: &whole_rays });
+        }
+        let png = self.band.is_none().then_some(png.as_path());
+        check_finished_with(&target, png, &self.info().settings(), size, &companions)
     }
 
     /// Renders the view and writes its files; returns the render and what was written.
@@ -129,8 +168,7 @@ impl ViewRender<'_> {
                 Some(png)
             }
         };
-        let rays = self.rays.map(|format| dir.join(view_rays_name(self.render.frame, id, format)));
-        Ok((rendered, ViewFiles { exr: target, png, rays }))
+        Ok((rendered, ViewFiles { exr: target, png, rays: self.rays_path() }))
     }
 }
 
@@ -203,6 +241,20 @@ mod tests {
         let png = crate::png::read_image(files.png.as_ref().unwrap()).unwrap().to_rgb8();
         let srgb = sky.to_array().map(tracer::image_io::linear_to_srgb8);
         assert!(png.pixels().all(|p| p.0 == srgb));
+        // Finished: the EXR, the tagged PNG and the rays; each missing, damaged or changed piece
+        // says so.
+        assert_eq!(job.check(), Ok(()));
+        let rays_file = job.rays_path().unwrap();
+        let more = Quality { spp: 3, ..quality };
+        let stale = ViewRender { render: CameraRender { quality: more, ..render }, ..job };
+        assert_eq!(stale.check().unwrap_err().to_string(), "spp 2 ≠ 3");
+        std::fs::remove_file(&rays_file).unwrap();
+        assert_eq!(job.check(), Err(Stale::Missing(rays_file.clone())));
+        std::fs::write(&rays_file, "garbage").unwrap();
+        assert!(matches!(job.check(), Err(Stale::Damaged { path, .. }) if path == rays_file));
+        let other_id = ViewRender { rays: None, render: CameraRender { camera_id: 6, ..render }, ..job };
+        let err = other_id.check().unwrap_err().to_string();
+        assert!(err.contains("not tagged as view 6"), "{err}");
         let bad = ViewRender { render: CameraRender { camera_id: 64, ..render }, ..job };
         assert!(bad.run(&NoProgress).unwrap_err().to_string().contains("camera id 64"));
         std::fs::remove_dir_all(&dir).unwrap();

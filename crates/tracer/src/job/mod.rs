@@ -19,5 +19,5 @@ pub use camera_render::CameraRender;
 pub use merge::{Merged, band_files, merge_bands};
 pub use output::{COUNT_KEYS, Provenance, RenderInfo, describe_projection, write_exr, write_render};
 pub use quality::Quality;
-pub use resume::{Stale, check_finished};
+pub use resume::{Companion, Stale, check_finished, check_finished_with, compare_settings};
 pub use scene_setup::{EnvironmentImage, SceneSetup};

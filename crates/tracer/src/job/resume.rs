@@ -53,6 +53,16 @@ impl fmt::Display for Stale {
     }
 }
 
+/// A file written beside a render that a finished render also needs (a workflow's own output,
+/// like the MCC lens writer's rays), and how to tell that it reads back whole and as this run
+/// would write it (`Err`: what is wrong).
+pub struct Companion<'a> {
+    /// The file.
+    pub path: &'a Path,
+    /// Reads it back and checks it.
+    pub check: &'a dyn Fn(&Path) -> Result<(), String>,
+}
+
 /// Whether `exr` (and `png`, when given) is a finished render of size `size` with the header
 /// settings `settings` (as [`super::RenderInfo::settings`] lists them; the counts in
 /// [`COUNT_KEYS`] are not compared): `Ok` to skip it, else why it must be rendered again. In
@@ -63,7 +73,19 @@ pub fn check_finished(
     settings: &[(&str, String)],
     size: UVec2,
 ) -> Result<(), Stale> {
-    for path in std::iter::once(exr).chain(png) {
+    check_finished_with(exr, png, settings, size, &[])
+}
+
+/// [`check_finished`], and every companion file there ([`Stale::Missing`]) and passing its
+/// check ([`Stale::Damaged`] with what the check said).
+pub fn check_finished_with(
+    exr: &Path,
+    png: Option<&Path>,
+    settings: &[(&str, String)],
+    size: UVec2,
+    companions: &[Companion<'_>],
+) -> Result<(), Stale> {
+    for path in std::iter::once(exr).chain(png).chain(companions.iter().map(|c| c.path)) {
         if !path.is_file() {
             return Err(Stale::Missing(path.to_path_buf()));
         }
@@ -77,22 +99,9 @@ pub fn check_finished(
     if was != size {
         return Err(Stale::Size { was, now: size });
     }
-    let recorded = |pairs: &mut dyn Iterator<Item = (String, String)>| -> BTreeMap<String, String> {
-        pairs.filter(|(k, _)| k.starts_with("mcctrace/") && !COUNT_KEYS.contains(&k.as_str())).collect()
-    };
-    let file = recorded(&mut image.metadata.into_iter());
-    let run = recorded(&mut settings.iter().map(|(k, v)| (k.to_string(), v.clone())));
-    let mut keys: Vec<&String> = file.keys().chain(run.keys()).collect();
-    keys.sort();
-    keys.dedup();
-    let changes: Vec<_> = keys
-        .into_iter()
-        .filter(|k| file.get(*k) != run.get(*k))
-        .map(|k| (k.trim_start_matches("mcctrace/").to_owned(), file.get(k).cloned(), run.get(k).cloned()))
-        .collect();
-    if !changes.is_empty() {
-        return Err(Stale::Settings(changes));
-    }
+    let header = image.metadata.into_iter().filter(|(k, _)| k.starts_with("mcctrace/"));
+    let run = settings.iter().map(|(k, v)| (k.to_string(), v.clone()));
+    compare_settings(header, run)?;
     if let Some(png) = png {
         let preview = read_png8(png).map_err(|e| damaged(png, e))?;
         if UVec2::new(preview.width, preview.height) != size {
@@ -102,7 +111,34 @@ pub fn check_finished(
             });
         }
     }
+    for c in companions {
+        (c.check)(c.path).map_err(|reason| Stale::Damaged { path: c.path.to_path_buf(), reason })?;
+    }
     Ok(())
+}
+
+/// The resume rule's comparison of settings: those `recorded` with a finished output against
+/// this run's, both ways (a key only one side has differs), the counts in [`COUNT_KEYS`] aside;
+/// [`Stale::Settings`] lists every difference, the recorded value first, keys without their
+/// `mcctrace/` prefix.
+pub fn compare_settings(
+    recorded: impl IntoIterator<Item = (String, String)>,
+    run: impl IntoIterator<Item = (String, String)>,
+) -> Result<(), Stale> {
+    let settings = |pairs: &mut dyn Iterator<Item = (String, String)>| -> BTreeMap<String, String> {
+        pairs.filter(|(k, _)| !COUNT_KEYS.contains(&k.as_str())).collect()
+    };
+    let file = settings(&mut recorded.into_iter());
+    let run = settings(&mut run.into_iter());
+    let mut keys: Vec<&String> = file.keys().chain(run.keys()).collect();
+    keys.sort();
+    keys.dedup();
+    let changes: Vec<_> = keys
+        .into_iter()
+        .filter(|k| file.get(*k) != run.get(*k))
+        .map(|k| (k.trim_start_matches("mcctrace/").to_owned(), file.get(k).cloned(), run.get(k).cloned()))
+        .collect();
+    if changes.is_empty() { Ok(()) } else { Err(Stale::Settings(changes)) }
 }
 
 #[cfg(test)]
@@ -136,6 +172,21 @@ mod tests {
             check(&other, size).unwrap_err().to_string(),
             "crop (none) ≠ 2, seed 1 ≠ (none), spp 64 ≠ 128"
         );
+        // A companion file must be there, and pass its check, for the render to count.
+        let rays = dir.join("f.rays");
+        let whole = |p: &Path| match std::fs::read(p) {
+            Ok(b) if b == b"whole" => Ok(()),
+            _ => Err("not whole".to_owned()),
+        };
+        let with = |c: &[Companion]| check_finished_with(&exr, Some(&png), &settings, size, c);
+        assert_eq!(with(&[Companion { path: &rays, check: &whole }]), Err(Stale::Missing(rays.clone())));
+        std::fs::write(&rays, b"half").unwrap();
+        assert_eq!(
+            with(&[Companion { path: &rays, check: &whole }]).unwrap_err().to_string(),
+            format!("{} is damaged: not whole", rays.display())
+        );
+        std::fs::write(&rays, b"whole").unwrap();
+        assert_eq!(with(&[Companion { path: &rays, check: &whole }]), Ok(()));
         let bytes = std::fs::read(&exr).unwrap();
         std::fs::write(&exr, &bytes[..bytes.len() / 2]).unwrap();
         let err = check(&settings, size).unwrap_err();
