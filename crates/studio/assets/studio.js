@@ -17,7 +17,8 @@
     state: null, W: 0, H: 0, labels: null, regions: null,
     selected: 1, mode: 'final', tool: 'brush',
     seq: 0, imageSeq: new Map(), // newest seq per image kind and camera
-    preview: null, previewSpp: 0, previewSeq: -1, previews: 0,
+    preview: null, previewSpp: 0, previewSeq: -1, previews: 0, previewLog: [],
+    savedDir: null, finalBytes: null,
     sources: [], // per camera index: { data: RGBA at the collage size, seq, full }
     view: null, viewMode: null, finalUrl: null,
     selection: null, clipboard: null, nextId: 1, paintIds: new Set(),
@@ -57,7 +58,7 @@
       case 'state': applyState(m); break;
       case 'labels': setLayer(m.layer, decodeBase64(m.data)); break;
       case 'progress': onProgress(m); break;
-      case 'saved': note(`saved to ${m.dir}`); break;
+      case 'saved': S.savedDir = m.dir; note(`saved to ${m.dir}`); break;
       case 'error': onError(m); break;
       case 'image': pendingImage = m; break;
       default: break;
@@ -97,6 +98,7 @@
     S.seq = Math.max(S.seq, h.seq ?? 0);
     if (stale(h)) return;
     S.imageSeq.set(imageKey(h), h.seq);
+    if (h.kind === 'final') { showFinal(h, buf); return; }
     const requestedMode = S.mode;
     createImageBitmap(new Blob([buf], { type: 'image/png' })).then((bmp) => {
       if (stale(h) || (S.imageSeq.get(imageKey(h)) ?? -1) > h.seq) { bmp.close(); return; }
@@ -110,7 +112,7 @@
   function pixelsAtCollageSize(bmp) {
     scratch.width = S.W;
     scratch.height = S.H;
-    sctx.imageSmoothingEnabled = bmp.width < S.W;
+    sctx.imageSmoothingEnabled = true;
     sctx.drawImage(bmp, 0, 0, S.W, S.H);
     return sctx.getImageData(0, 0, S.W, S.H).data;
   }
@@ -122,6 +124,7 @@
       S.previewSpp = h.spp;
       S.previewSeq = h.seq;
       S.previews += 1;
+      S.previewLog.push({ seq: h.seq, spp: h.spp, w: bmp.width, h: bmp.height, t: performance.now() });
       $('preview-info').textContent = `preview ${bmp.width}×${bmp.height}, ${h.spp} spp`;
     } else if (h.kind === 'thumb') {
       drawThumb(h.camera, bmp);
@@ -133,9 +136,6 @@
       if (h.camera && requestedMode === 'source') {
         S.sources[h.camera] = { data: pixelsAtCollageSize(bmp), seq: h.seq, full };
       }
-    } else if (h.kind === 'final') {
-      showFinal(bmp);
-      return;
     }
     schedule();
   }
@@ -148,21 +148,17 @@
     c.getContext('2d').drawImage(bmp, 0, 0);
   }
 
-  function showFinal(bmp) {
-    const c = document.createElement('canvas');
-    c.width = bmp.width;
-    c.height = bmp.height;
-    c.getContext('2d').drawImage(bmp, 0, 0);
-    c.toBlob((blob) => {
-      if (S.finalUrl) URL.revokeObjectURL(S.finalUrl);
-      S.finalUrl = URL.createObjectURL(blob);
-      $('final-img').src = S.finalUrl;
-      $('final-link').href = S.finalUrl;
-      $('final-link').hidden = false;
-    }, 'image/png');
+  // The final render is shown from the server's own PNG bytes, never re-encoded.
+  function showFinal(h, buf) {
+    S.finalBytes = new Uint8Array(buf);
+    if (S.finalUrl) URL.revokeObjectURL(S.finalUrl);
+    S.finalUrl = URL.createObjectURL(new Blob([buf], { type: 'image/png' }));
+    $('final-img').src = S.finalUrl;
+    $('final-link').href = S.finalUrl;
+    $('final-link').hidden = false;
     $('render-final').disabled = false;
     $('cancel-final').disabled = true;
-    note(`final render ${bmp.width}×${bmp.height} done`);
+    note(`final render ${h.w}×${h.h}, ${h.spp} spp done`);
   }
 
   // ---- state ------------------------------------------------------------------------------------
