@@ -18,7 +18,7 @@
     selected: 1, mode: 'final', tool: 'brush',
     seq: 0, imageSeq: new Map(), // newest seq per image kind and camera
     preview: null, previewSpp: 0, previewSeq: -1, previews: 0, previewLog: [],
-    savedDir: null, finalBytes: null,
+    savedDir: null, finalBytes: null, loadedAt: null, paintPending: false,
     sources: [], // per camera index: { data: RGBA at the collage size, seq, full }
     view: null, viewMode: null, finalUrl: null,
     selection: null, clipboard: null, nextId: 1, paintIds: new Set(),
@@ -29,7 +29,7 @@
   // Long tasks (anything blocking the page over 50 ms) are kept for the test and the status line.
   try {
     new PerformanceObserver((list) => {
-      for (const e of list.getEntries()) S.longTasks.push(e.duration);
+      for (const e of list.getEntries()) S.longTasks.push({ start: Math.round(e.startTime), ms: Math.round(e.duration) });
     }).observe({ type: 'longtask', buffered: true });
   } catch (_) { /* not supported: nothing to record */ }
 
@@ -121,9 +121,12 @@
     const full = bmp.width === S.W && bmp.height === S.H;
     if (h.kind === 'preview') {
       S.preview = pixelsAtCollageSize(bmp);
+      // Every stroke bumps seq: a preview newer than the page's seq at its last stroke shows it.
+      if (S.paintPending !== false && h.seq > S.paintPending) S.paintPending = false;
       S.previewSpp = h.spp;
       S.previewSeq = h.seq;
       S.previews += 1;
+      if (S.loadedAt === null) S.loadedAt = performance.now();
       S.previewLog.push({ seq: h.seq, spp: h.spp, w: bmp.width, h: bmp.height, t: performance.now() });
       $('preview-info').textContent = `preview ${bmp.width}×${bmp.height}, ${h.spp} spp`;
     } else if (h.kind === 'thumb') {
@@ -327,7 +330,9 @@
     const n = S.W * S.H;
     if (S.mode === 'final') {
       // Painted pixels show their camera's view, the rest the refining preview.
-      const src = S.sources.map((s) => s && s.data);
+      // A camera's full-resolution view is exact there; its coarse thumbnail stands in only
+      // until a preview made after the newest stroke arrives.
+      const src = S.sources.map((s) => s && (s.full || S.paintPending !== false || !prev) && s.data);
       const prev = S.preview;
       for (let i = 0, p = 0; i < n; i++, p += 4) {
         const s = src[S.labels[i]] || prev;
@@ -356,6 +361,9 @@
     }
     ctx.putImageData(S.out, 0, 0);
     drawOverlay();
+    // What the canvas now shows, for the browser test's hook (`afterDraw`).
+    S.drawn = { mode: S.mode, seq: S.previewSeq, spp: S.previewSpp };
+    if (S.afterDraw) S.afterDraw();
   }
 
   function drawOverlay() {
@@ -384,6 +392,7 @@
   // Sends one `paint` message (one undo step): `values` covers rect, 255 = leave as is.
   function sendPatch(layer, rect, values) {
     const id = send({ type: 'paint', layer, rect: [rect.x, rect.y, rect.w, rect.h], data: encodeBase64(values) });
+    S.paintPending = S.seq;
     S.paintIds.add(id);
     const map = layer === 'regions' ? S.regions : S.labels;
     for (let y = 0; y < rect.h; y++) {
