@@ -18,7 +18,7 @@
     selected: 1, mode: 'final', tool: 'brush',
     seq: 0, imageSeq: new Map(), // newest seq per image kind and camera
     preview: null, previewSpp: 0, previewSeq: -1, previews: 0, previewLog: [],
-    savedDir: null, finalBytes: null, loadedAt: null, paintPending: false,
+    savedDir: null, finalBytes: null, loadedAt: null, paintPending: false, paints: 0,
     sources: [], // per camera index: { data: RGBA at the collage size, seq, full }
     view: null, viewMode: null, finalUrl: null,
     selection: null, clipboard: null, nextId: 1, paintIds: new Set(),
@@ -119,14 +119,14 @@
 
   function onImage(h, bmp, requestedMode) {
     const full = bmp.width === S.W && bmp.height === S.H;
+    if (S.loadedAt === null) S.loadedAt = performance.now();
     if (h.kind === 'preview') {
       S.preview = pixelsAtCollageSize(bmp);
-      // Every stroke bumps seq: a preview newer than the page's seq at its last stroke shows it.
-      if (S.paintPending !== false && h.seq > S.paintPending) S.paintPending = false;
+      const p = S.paintPending;
+      if (p && (p.seq !== null ? h.seq >= p.seq : h.seq > p.after)) S.paintPending = false;
       S.previewSpp = h.spp;
       S.previewSeq = h.seq;
       S.previews += 1;
-      if (S.loadedAt === null) S.loadedAt = performance.now();
       S.previewLog.push({ seq: h.seq, spp: h.spp, w: bmp.width, h: bmp.height, t: performance.now() });
       $('preview-info').textContent = `preview ${bmp.width}×${bmp.height}, ${h.spp} spp`;
     } else if (h.kind === 'thumb') {
@@ -167,6 +167,8 @@
   // ---- state ------------------------------------------------------------------------------------
   function applyState(st) {
     S.state = st;
+    if (Number.isFinite(st.seq)) S.seq = Math.max(S.seq, st.seq);
+    if (S.paintPending && S.paintPending.id === st.id && Number.isFinite(st.seq)) S.paintPending.seq = st.seq;
     const [w, h] = st.res;
     if (w !== S.W || h !== S.H) resize(w, h);
     if (!st.cameras.some((c) => c.index === S.selected) && st.cameras.length) S.selected = st.cameras[0].index;
@@ -332,7 +334,7 @@
       // Painted pixels show their camera's view, the rest the refining preview.
       // A camera's full-resolution view is exact there; its coarse thumbnail stands in only
       // until a preview made after the newest stroke arrives.
-      const src = S.sources.map((s) => s && (s.full || S.paintPending !== false || !prev) && s.data);
+      const src = S.sources.map((s) => s && (s.full || S.paintPending || !prev) && s.data);
       const prev = S.preview;
       for (let i = 0, p = 0; i < n; i++, p += 4) {
         const s = src[S.labels[i]] || prev;
@@ -392,7 +394,10 @@
   // Sends one `paint` message (one undo step): `values` covers rect, 255 = leave as is.
   function sendPatch(layer, rect, values) {
     const id = send({ type: 'paint', layer, rect: [rect.x, rect.y, rect.w, rect.h], data: encodeBase64(values) });
-    S.paintPending = S.seq;
+    // Until a preview of this stroke arrives: newer than the seq the page knew when it was sent,
+    // or, once the server's state reply tells it, at least the stroke's own seq.
+    S.paintPending = { id, after: S.seq, seq: null };
+    S.paints += 1;
     S.paintIds.add(id);
     const map = layer === 'regions' ? S.regions : S.labels;
     for (let y = 0; y < rect.h; y++) {
