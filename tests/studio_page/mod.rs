@@ -135,8 +135,7 @@ fn paint_two_cameras_preview_save_and_render_final() {
         b.wait_for("a preview of both strokes", "return !!window.studio.snaps.first", PATIENCE).await;
         save_screenshot(&b, "1-strokes-first-preview.png").await;
 
-        // (b) The preview refines while idle: between the strokes the canvas changes, under them
-        // it stays the cameras' views.
+        // (b) The preview refines while idle: between the strokes the canvas changes.
         b.wait_for("a refined preview", "return !!window.studio.snaps.last", PATIENCE).await;
         let snap = |which: &'static str| {
             let b = &b;
@@ -156,10 +155,6 @@ fn paint_two_cameras_preview_save_and_render_final() {
         println!("preview {spp1} → {spp2} spp: {changed} of {} pixels between the strokes changed", between.len());
         assert!(changed * 4 >= between.len(), "the preview between the strokes should refine: {changed} of {} changed", between.len());
         let cores: Vec<Vec<(u32, u32)>> = (0..2).map(|s| near_stroke(s, BRUSH / 2.0 - 1.5)).collect();
-        for core in &cores {
-            let moved = core.iter().filter(|&&p| rgb_at(&first, p) != rgb_at(&later, p)).count();
-            assert_eq!(moved, 0, "painted pixels show their camera's view, which does not refine");
-        }
         save_screenshot(&b, "2-refined-preview.png").await;
 
         // (c) Save: the project folder as the batch tools read it.
@@ -189,24 +184,25 @@ fn paint_two_cameras_preview_save_and_render_final() {
         }
         assert_eq!(collage.cameras().into_iter().collect::<Vec<_>>(), vec![1, 2]);
 
-        // (a) Under each stroke the canvas is that camera's view (the saved tagged view differs
-        // only in its two tag bits per channel), and not the other camera's.
+        // The refined canvas is the server's preview as it sent it: exactly `mcctrace rerender`
+        // of the saved collage at the collage size and the preview's samples (docs/studio.md,
+        // "Engine"), no colour management or scaling on the way.
+        let preview = studio.rerender(&dir, &scratch, (RES.0, RES.1, spp2 as u32), "preview");
+        let canvas = image::RgbImage::from_fn(RES.0, RES.1, |x, y| image::Rgb(rgb_at(&later, (x, y))));
+        assert!(canvas == preview, "the canvas at {spp2} spp differs from mcctrace rerender --spp {spp2}");
+
+        // (a) Under each stroke the canvas is that camera's view: the saved view (rendered by
+        // the batch `render`'s job, tagged) matches it there at least twice as well as the other
+        // camera's view does. Independent renders with their own noise, so a statistical check.
         for (s, core) in cores.iter().enumerate() {
             let camera = STROKES[s].0;
             let own = read_rgb(&studio.view_png(&dir, camera));
             let other = read_rgb(&studio.view_png(&dir, 3 - camera));
             let (e_own, e_other) = (mean_difference(&later, &own, core), mean_difference(&later, &other, core));
-            println!("stroke {s}: canvas vs camera {camera}'s view {e_own:.2}, vs the other camera's {e_other:.2} (mean |Δ| of 255)");
-            let worst = core
-                .iter()
-                .map(|&p| {
-                    let (c, v) = (rgb_at(&later, p), own.get_pixel(p.0, p.1).0);
-                    (0..3).map(|k| c[k].abs_diff(v[k])).max().unwrap()
-                })
-                .max()
-                .unwrap();
-            assert!(worst <= 3, "stroke {s}: the canvas differs from camera {camera}'s view by {worst} (> the tag bits)");
-            assert!(e_other > 4.0 * e_own.max(1.0), "stroke {s}: the two views should differ there to tell them apart");
+            println!(
+                "stroke {s}: canvas vs camera {camera}'s view {e_own:.2}, vs the other camera's {e_other:.2} (mean |Δ| of 255)"
+            );
+            assert!(2.0 * e_own < e_other, "stroke {s}: the canvas should show camera {camera}'s view");
         }
 
         // The other views, for the screenshots.
@@ -229,9 +225,15 @@ fn paint_two_cameras_preview_save_and_render_final() {
         let bytes: Vec<u8> = bytes.as_array().unwrap().iter().map(|v| v.as_u64().unwrap() as u8).collect();
         let page_final = image::load_from_memory(&bytes).expect("the page's final render is a PNG").to_rgb8();
         save_screenshot(&b, "4-final.png").await;
-        let rerendered = studio.rerender(&dir, &scratch, FINAL);
+        let exr = b.wait_for("the final render's file", "return window.studio.finalExr", PATIENCE).await;
+        let exr = PathBuf::from(exr.as_str().expect("final exr path"));
+        let rerendered = studio.rerender(&dir, &scratch, FINAL, "final");
         assert_eq!(page_final.dimensions(), (FINAL.0, FINAL.1));
         assert!(page_final == rerendered, "mcctrace rerender on the saved project differs from the page's final render");
+        let batch = tracer::image_io::read_exr_rgb(&scratch.path("final.exr")).expect("rerender's EXR");
+        let studio_exr = tracer::image_io::read_exr_rgb(&exr).expect("the studio's final EXR");
+        let bits = |i: &tracer::image::RgbImage| i.pixels.iter().flat_map(|p| p.to_array()).map(f32::to_bits).collect::<Vec<_>>();
+        assert!(bits(&batch) == bits(&studio_exr), "the studio's final EXR differs from rerender's, bit for bit");
 
         // The page's long tasks (anything that blocked it over 50 ms), for the record: all of
         // them, and those after the page had loaded and shown its first preview.

@@ -76,10 +76,17 @@ impl Studio {
         dir.join(format!("views/frame0000camera{camera:02}.png"))
     }
 
-    /// `mcctrace rerender` of the saved project at `(w, h, spp)`, as an 8-bit picture.
-    pub fn rerender(&self, dir: &Path, scratch: &Scratch, (w, h, spp): (u32, u32, u32)) -> image::RgbImage {
+    /// `mcctrace rerender` of the saved project at `(w, h, spp)` into `NAME.exr` (+ PNG) in the
+    /// scratch folder, as the project folder's documentation gives the command; the 8-bit PNG.
+    pub fn rerender(
+        &self,
+        dir: &Path,
+        scratch: &Scratch,
+        (w, h, spp): (u32, u32, u32),
+        name: &str,
+    ) -> image::RgbImage {
         let scene = repo_root().join("scenes/cafe/cafe.gltf");
-        let out = scratch.path("rerender.exr");
+        let out = scratch.path(&format!("{name}.exr"));
         let args = [
             "rerender".to_string(),
             scene.display().to_string(),
@@ -87,6 +94,8 @@ impl Studio {
             dir.join("collage.png").display().to_string(),
             "--rays".into(),
             dir.join("views").display().to_string(),
+            "--frame".into(),
+            "0".into(),
             "--res".into(),
             format!("{w}x{h}"),
             "--spp".into(),
