@@ -24,6 +24,7 @@ mod scene_features;
 mod seamless_blend;
 mod stress;
 mod stress_mcc;
+mod studio;
 mod studio_page;
 
 /// With `autotests = false`, Cargo no longer builds `tests/*.rs` as binaries of their own: a test

@@ -15,6 +15,7 @@ mod remap;
 mod render;
 mod rerender;
 mod setup;
+mod studio;
 mod tag;
 
 use clap::{Parser, Subcommand};
@@ -52,6 +53,8 @@ enum Command {
     /// Run the main job on the bundled scene and write every picture to one folder
     /// (--animation: the keyframe workflow, a short animated shot).
     Demo(demo::DemoArgs),
+    /// Paint a collage in a local web page and watch its rerender refine (prints the URL).
+    Studio(studio::StudioArgs),
 }
 
 /// Runs the command line `args` (program name first); errors are printed, not panicked.
@@ -100,6 +103,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Keys(a) => keys::run(a),
         Command::Animate(a) => animate::run(a),
         Command::Demo(a) => demo::run(a),
+        Command::Studio(a) => studio::run(a),
     }
 }
 
