@@ -112,7 +112,7 @@ fn paint_two_cameras_preview_save_and_render_final() {
     let studio = server::Studio::start(&scratch, RES);
     let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build().expect("tokio runtime");
     runtime.block_on(async {
-        let b = Browser::start(&chromium, &chromedriver, &scratch.path("profile"), (1280, 800)).await;
+        let b = Browser::start(&chromium, &chromedriver, &scratch.path("profile"), (1100, 650)).await;
         b.client.goto(&studio.url).await.expect("open the studio page");
         let thumbs = "return window.studio && window.studio.sources.filter(Boolean).length >= 2";
         b.wait_for("both cameras' thumbnails", thumbs, PATIENCE).await;
