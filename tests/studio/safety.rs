@@ -42,7 +42,7 @@ async fn refuses_what_it_must() {
     assert!(client.try_recv(Duration::from_secs(20)).await.is_none_or(|m| m.kind() != "state"));
     let mut fresh = Client::connect(&running).await;
     assert_eq!(fresh.hello().await["seq"], seq);
-    // Binary messages are refused with an error.
+    // A message naming a camera that does not exist is refused.
     let reply = fresh.request(json!({"type": "view", "mode": "labels", "camera": 99})).await;
     assert_eq!(reply["type"], "error");
     drop(running);

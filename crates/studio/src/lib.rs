@@ -6,6 +6,8 @@
 #![warn(missing_docs)]
 
 pub mod camera;
+#[cfg(feature = "client")]
+pub mod client;
 pub mod engine;
 pub mod error;
 pub mod maps;

@@ -129,11 +129,13 @@ pub fn serve(config: Config) -> Result<Running> {
     let thread = std::thread::Builder::new()
         .name("studio-server".into())
         .spawn(move || {
+            // On stop the server future is dropped, not drained: open sockets would keep a
+            // graceful shutdown waiting; dropping the runtime ends their tasks.
             runtime.block_on(async move {
-                let server = axum::serve(listener, app).with_graceful_shutdown(async {
-                    let _ = rx.await;
-                });
-                let _ = server.await;
+                tokio::select! {
+                    _ = std::future::IntoFuture::into_future(axum::serve(listener, app)) => {}
+                    _ = rx => {}
+                }
             });
         })
         .map_err(|e| StudioError::Server(e.to_string()))?;
