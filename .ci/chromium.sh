@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Headless Chromium and its WebDriver for the studio's browser test (tests/studio_page.rs): Debian's
+# Headless Chromium and its WebDriver for the studio's browser test (tests/studio_page/): Debian's
 # `chromium` and `chromium-driver` (/usr/bin/chromium, /usr/bin/chromedriver). The test starts
 # chromedriver itself and gives Chromium the flags it needs on a closed network as root.
 set -euo pipefail
