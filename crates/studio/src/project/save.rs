@@ -103,6 +103,8 @@ fn write_views(shared: &Shared, frame: u32, key: &Key, res: [u32; 2], views: &Pa
             rays: Some(RayFormat::Binary),
             tag: Some(TagCode::default()),
             provenance: Provenance { projection: Some(desc.projection), ..Provenance::default() },
+            setup: Some(&shared.source.setup),
+            band: None,
         };
         job.run(&NoProgress)?;
         tracer::atomic::write_atomically(&stamp, |w| std::io::Write::write_all(w, pose.as_bytes()))?;
