@@ -89,3 +89,61 @@ async fn paint_undo_redo_and_camera_edits() {
     drop(running);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Camera edits are undo steps in the order made, among the strokes; a second tab sees every
+/// stroke, undo and camera move of the first as it happens.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn camera_edits_undo_in_order_and_tabs_see_each_other() {
+    let dir = scratch("api-undo-tabs");
+    let running = start(&dir);
+    let mut client = Client::connect(&running).await;
+    let mut other = Client::connect(&running).await;
+    other.hello().await;
+    let before = client.hello().await;
+    let after = two_strokes(&mut client).await;
+    let moved = after["cameras"][1].clone();
+    assert_ne!(moved["eye"], before["cameras"][0]["eye"], "two_strokes moves the copy");
+
+    // The other tab got the second stroke's map without asking.
+    let [w, h] = RES;
+    let third = w / 3;
+    let painted: Vec<u8> = (0..w * h)
+        .map(|p| match p % w {
+            x if x < third => 1,
+            x if x >= w - third => 2,
+            _ => 0,
+        })
+        .collect();
+    let seen = other
+        .until(|m| matches!(m, Msg::Json(v) if v["type"] == "labels" && decode(&v["data"]) == painted))
+        .await;
+    assert_eq!(seen.kind(), "labels");
+
+    // Undo: the second stroke, the first, then the camera edit (the copy goes back to the
+    // duplicate's pose), each seen by the other tab.
+    for _ in 0..2 {
+        client.request(json!({"type": "undo"})).await;
+    }
+    let state = client.request(json!({"type": "undo"})).await;
+    assert_eq!(state["cameras"][1]["eye"], before["cameras"][0]["eye"], "{state}");
+    assert_eq!(state["cameras"][1]["fov_deg"], before["cameras"][0]["fov_deg"]);
+    let seq = state["seq"].clone();
+    let Msg::Json(seen) =
+        other.until(|m| matches!(m, Msg::Json(v) if v["type"] == "state" && v["seq"] == seq)).await
+    else {
+        unreachable!()
+    };
+    assert_eq!(seen["cameras"][1]["eye"], before["cameras"][0]["eye"]);
+    assert_eq!(state["can_undo"], false, "duplicating is not an edit of a pose: nothing is left");
+    // Redo brings the edit back, then the strokes.
+    let state = client.request(json!({"type": "redo"})).await;
+    assert_eq!(state["cameras"][1], moved);
+    client.request(json!({"type": "redo"})).await;
+    client.send(json!({"type": "redo"})).await;
+    let seen = other
+        .until(|m| matches!(m, Msg::Json(v) if v["type"] == "labels" && decode(&v["data"]) == painted))
+        .await;
+    assert_eq!(seen.kind(), "labels");
+    drop(running);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -2,7 +2,7 @@
 //! final" equals `mcctrace rerender` on it bit for bit, the idle preview equals the rerender at
 //! the preview settings, and a reopened project is the session saved.
 
-use super::{Client, Msg, RES, SETTINGS, decode, scratch, start, two_strokes};
+use super::{Client, Msg, RES, SETTINGS, decode, scene, scratch, start, two_strokes};
 use serde_json::json;
 use std::path::Path;
 use tracer::image_io::{linear_to_srgb8, read_exr_rgb};
@@ -89,6 +89,28 @@ async fn saved_projects_feed_the_batch_commands_bit_for_bit() {
     client.request(json!({"type": "frame", "frame": 0})).await;
     assert_eq!(client.request(json!({"type": "save"})).await["type"], "saved");
     assert!(project.join("keys/frame0005.png").is_file());
+    // `keys` takes the saved keys as they are (each with its own cameras' views): every frame
+    // from one key to the other gets its rays.
+    let lens = dir.join("lens");
+    let key = |f: u32| format!("{f}={}", project.join(::studio::project::key_collage(f)).display());
+    let (views, out) = (project.join("views").display().to_string(), lens.display().to_string());
+    crate::common::mcctrace(&[
+        "keys",
+        "--rays",
+        &views,
+        "--key",
+        &key(0),
+        "--key",
+        &key(5),
+        "--frames",
+        "0..=5",
+        "--out",
+        &out,
+    ])
+    .expect("mcctrace keys on the saved keys");
+    for f in 0..=5 {
+        assert!(lens.join(format!("rerender-frame{f:04}.mcr")).is_file(), "keys wrote frame {f}'s rays");
+    }
     let cameras = client.hello().await["cameras"].clone();
     drop(client);
     drop(running);
@@ -101,5 +123,67 @@ async fn saved_projects_feed_the_batch_commands_bit_for_bit() {
     let Msg::Json(labels) = client.until(|m| m.kind() == "labels").await else { unreachable!() };
     assert_eq!(decode(&labels["data"]), painted);
     drop(reopened);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// An existing collage cut in an editor opens in the studio through the batch remapper's reader:
+/// the OpenRaster file Krita saved and the PSD GIMP saved (tests/data/layers/README.md gives
+/// their edits, whose analytic boundaries are checked here) and a tagged PNG.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn opens_layered_and_tagged_collages_cut_elsewhere() {
+    let data = crate::common::repo_root().join("tests/data/layers");
+    let cafe = crate::common::repo_root().join("scenes/cafe/cafe.gltf");
+    for file in ["krita-edited.ora", "gimp-edited.psd"] {
+        let dir = scratch(&format!("open-{file}"));
+        let config = ::studio::Config {
+            res: [64, 48],
+            engine: SETTINGS,
+            collage: Some(data.join(file)),
+            ..::studio::Config::new(Some(cafe.clone()), dir.clone())
+        };
+        let running = ::studio::serve(config).unwrap_or_else(|e| panic!("{file}: {e}"));
+        let mut client = Client::connect(&running).await;
+        client.send(json!({"type": "hello"})).await;
+        let Msg::Json(labels) = client
+            .until(|m| matches!(m, Msg::Json(v) if v["type"] == "labels" && v["layer"] == "labels"))
+            .await
+        else {
+            unreachable!()
+        };
+        let labels = decode(&labels["data"]);
+        let at = |x: usize, y: usize| labels[y * 64 + x];
+        // Camera 1 left of its erased edge and in its patch, camera 2 right, the erased corner
+        // background.
+        assert_eq!((at(5, 20), at(20, 40), at(55, 33)), (1, 1, 1), "{file}");
+        assert_eq!((at(40, 20), at(60, 40), at(45, 20)), (2, 2, 2), "{file}");
+        assert_eq!((at(50, 5), at(63, 0)), (0, 0), "{file}");
+        drop(running);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+    // A tagged collage: a file the studio saved, opened as `--collage` on a new session.
+    let dir = scratch("open-tagged");
+    let painted: Vec<u8> = (0..RES[0] * RES[1]).map(|p| if p % RES[0] < 10 { 1 } else { 0 }).collect();
+    let running = start(&dir);
+    let mut client = Client::connect(&running).await;
+    client.hello().await;
+    client.paint([0, 0, RES[0], RES[1]], &painted).await;
+    assert_eq!(client.request(json!({"type": "save"})).await["type"], "saved");
+    drop(running);
+    let config = ::studio::Config {
+        res: RES,
+        engine: SETTINGS,
+        collage: Some(dir.join("collage.png")),
+        ..::studio::Config::new(Some(scene()), dir.join("again"))
+    };
+    let running = ::studio::serve(config).unwrap();
+    let mut client = Client::connect(&running).await;
+    client.send(json!({"type": "hello"})).await;
+    let Msg::Json(labels) =
+        client.until(|m| matches!(m, Msg::Json(v) if v["type"] == "labels" && v["layer"] == "labels")).await
+    else {
+        unreachable!()
+    };
+    assert_eq!(decode(&labels["data"]), painted);
+    drop(running);
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -82,8 +82,8 @@ impl Browser {
                 return v;
             }
             if Instant::now() > deadline {
-                let status = self.js("return document.getElementById('status').innerText", vec![]).await;
-                panic!("timed out after {limit:?} waiting for {what}; page status: {status}");
+                let status = self.js("return [document.getElementById('status').innerText, window.studio && window.studio.errors]", vec![]).await;
+                panic!("timed out after {limit:?} waiting for {what}; page status and errors: {status}");
             }
             tokio::time::sleep(Duration::from_millis(50)).await;
         }

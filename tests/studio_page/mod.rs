@@ -128,6 +128,7 @@ fn paint_two_cameras_preview_save_and_render_final() {
                const px = () => Array.from(document.getElementById('canvas').getContext('2d').getImageData(0, 0, S.W, S.H).data);
                if (!S.snaps.first) S.snaps.first = { seq: d.seq, spp: d.spp, px: px() };
                else if (d.seq === S.snaps.first.seq && d.spp > S.snaps.first.spp) S.snaps.last = { seq: d.seq, spp: d.spp, px: px() };
+               if (d.seq === S.snaps.first.seq) S.snaps['spp' + d.spp] = { seq: d.seq, spp: d.spp, px: px() };
              };";
         b.js(hook, vec![]).await;
         paint_stroke(&b, 0).await;
@@ -191,7 +192,34 @@ fn paint_two_cameras_preview_save_and_render_final() {
         let canvas = image::RgbImage::from_fn(RES.0, RES.1, |x, y| image::Rgb(rgb_at(&later, (x, y))));
         assert!(canvas == preview, "the canvas at {spp2} spp differs from mcctrace rerender --spp {spp2}");
 
-        // (a) Under each stroke the canvas is that camera's view: the saved view (rendered by
+        // (a) Under each stroke the canvas is that camera's view. While the preview has fewer
+        // samples than the views, the server composes painted pixels from the views' samples
+        // (docs/studio.md, "Engine"): then the canvas there is the saved view (rendered by the
+        // batch `render`'s job at the same samples) bit for bit, in 8-bit sRGB.
+        let project: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("studio.json")).expect("studio.json"))
+                .expect("studio.json parses");
+        let view_spp = project["view_spp"].as_u64().expect("studio.json names view_spp");
+        let composed = b.js("const s = window.studio.snaps.spp1; return s ? s.px : null;", vec![]).await;
+        assert!(view_spp > 1, "the views have more samples than the first preview");
+        let composed: Vec<u8> = composed
+            .as_array()
+            .expect("the page drew the 1-spp preview of both strokes")
+            .iter()
+            .map(|n| n.as_u64().unwrap() as u8)
+            .collect();
+        for (s, &(camera, ..)) in STROKES.iter().enumerate() {
+            let exr = dir.join(format!("views/frame0000camera{camera:02}.exr"));
+            let view = tracer::image_io::read_exr_rgb(&exr).expect("the saved view's EXR");
+            let mut differ = 0;
+            for &(x, y) in &near_stroke(s, BRUSH / 2.0 - 1.0) {
+                let v = view.pixels[(y * RES.0 + x) as usize].to_array().map(tracer::image_io::linear_to_srgb8);
+                differ += usize::from(rgb_at(&composed, (x, y)) != v);
+            }
+            assert_eq!(differ, 0, "stroke {s}: the 1-spp canvas should be camera {camera}'s view samples under the stroke");
+        }
+
+        // Later, the rerender has more samples than the views there: still that camera's view: the saved view (rendered by
         // the batch `render`'s job, tagged) matches it there at least twice as well as the other
         // camera's view does. Independent renders with their own noise, so a statistical check.
         for (s, core) in cores.iter().enumerate() {

@@ -21,10 +21,14 @@
     savedDir: null, finalBytes: null, finalExr: null, loadedAt: null, paintPending: false, paints: 0,
     sources: [], // per camera index: { data: RGBA at the collage size, seq, full }
     view: null, viewMode: null, finalUrl: null,
-    selection: null, clipboard: null, nextId: 1, paintIds: new Set(),
+    selection: null, clipboard: null, paintIds: new Set(),
+    // Replies go to every tab: ids start at random so one tab never takes another's as its own.
+    nextId: 1 + Math.floor(Math.random() * 1e9),
     longTasks: [], errors: [],
   };
   window.studio = S;
+  // A script error is an error of the page: kept with the server's, for the browser test.
+  window.addEventListener('error', (e) => S.errors.push(`script: ${e.message}`));
 
   // Long tasks (anything blocking the page over 50 ms) are kept for the test and the status line.
   try {
@@ -56,7 +60,7 @@
   function onMessage(m) {
     switch (m.type) {
       case 'state': applyState(m); break;
-      case 'labels': setLayer(m.layer, paint.decodeBase64(m.data)); break;
+      case 'labels': onLabels(m); break;
       case 'progress': onProgress(m); break;
       case 'saved': S.savedDir = m.dir; note(`saved to ${m.dir}`); break;
       case 'error': onError(m); break;
@@ -71,7 +75,23 @@
     note(m.message, true);
     if (m.id === S.finalId) { $('render-final').disabled = false; $('cancel-final').disabled = true; }
     // A refused stroke leaves the page's optimistic copy wrong: ask for the server's maps again.
-    if (S.paintIds.has(m.id)) send({ type: 'hello' });
+    if (S.paintIds.has(m.id)) { paintDone(m.id); send({ type: 'hello' }); }
+  }
+
+  // Every tab's maps as the server holds them (strokes of other tabs too). While this tab's own
+  // strokes are on their way the newest map waits: it would hide them; the reply to the last
+  // one brings it in, with everything up to that stroke.
+  const waitingLabels = {};
+  function onLabels(m) {
+    if (S.paintIds.size) waitingLabels[m.layer] = m;
+    else setLayer(m.layer, paint.decodeBase64(m.data));
+  }
+  function paintDone(id) {
+    if (!S.paintIds.delete(id) || S.paintIds.size) return;
+    for (const [layer, m] of Object.entries(waitingLabels)) {
+      setLayer(layer, paint.decodeBase64(m.data));
+      delete waitingLabels[layer];
+    }
   }
 
   function onProgress(m) {
@@ -173,6 +193,7 @@
     S.state = st;
     if (Number.isFinite(st.seq)) S.seq = Math.max(S.seq, st.seq);
     if (S.paintPending && S.paintPending.id === st.id && Number.isFinite(st.seq)) S.paintPending.seq = st.seq;
+    if (S.paintIds.has(st.id)) paintDone(st.id);
     const [w, h] = st.res;
     if (w !== S.W || h !== S.H) resize(w, h);
     if (!st.cameras.some((c) => c.index === S.selected) && st.cameras.length) S.selected = st.cameras[0].index;
@@ -335,11 +356,11 @@
     const o = S.out.data;
     const n = S.W * S.H;
     if (S.mode === 'final') {
-      // Painted pixels show their camera's view, the rest the refining preview.
-      // A camera's full-resolution view is exact there; its coarse thumbnail stands in only
-      // until a preview made after the newest stroke arrives.
-      const src = S.sources.map((s) => s && (s.full || S.paintPending || !prev) && s.data);
+      // The server's preview is the composite (docs/studio.md, "Engine"), shown as it came.
+      // Only while a stroke waits for its preview do painted pixels take their camera's view
+      // (or thumbnail) here, so the paint shows at once.
       const prev = S.preview;
+      const src = S.sources.map((s) => s && (S.paintPending || !prev) && s.data);
       for (let i = 0, p = 0; i < n; i++, p += 4) {
         const s = src[S.labels[i]] || prev;
         if (s) { o[p] = s[p]; o[p + 1] = s[p + 1]; o[p + 2] = s[p + 2]; } else { o[p] = o[p + 1] = o[p + 2] = 0; }

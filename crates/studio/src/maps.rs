@@ -1,6 +1,8 @@
 //! The label and region maps of one key and their undo/redo history (docs/studio.md,
-//! "Engine"): the page rasterises every tool into patches; one patch is one undo step.
+//! "Engine"): the page rasterises every tool into patches; one patch is one undo step, and so is
+//! one camera edit (the history is the key's, in the order the user made them).
 
+use crate::camera::StudioCamera;
 use crate::error::{Result, StudioError};
 use crate::protocol::Layer;
 
@@ -10,12 +12,22 @@ pub const KEEP: u8 = 255;
 /// Undo steps kept per key; the oldest go first.
 pub const HISTORY: usize = 256;
 
-/// One applied patch: what it changed, to undo and redo it.
+/// One step of the history: what it changed, to undo and redo it.
 #[derive(Clone, Debug)]
-struct Step {
-    layer: Layer,
-    /// (pixel index, before, after) for each changed pixel.
-    changes: Vec<(u32, u8, u8)>,
+enum Step {
+    /// A patch: (pixel index, before, after) for each changed pixel of `layer`.
+    Patch { layer: Layer, changes: Vec<(u32, u8, u8)> },
+    /// A camera edit: the camera before and after it.
+    Camera { before: Box<StudioCamera>, after: Box<StudioCamera> },
+}
+
+/// What an undo or redo changed.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Undone {
+    /// This layer's map.
+    Layer(Layer),
+    /// A camera: put this one in its place.
+    Camera(StudioCamera),
 }
 
 /// The label map (0 background, k camera k) and region map of one key, with their history.
@@ -101,36 +113,56 @@ impl Maps {
         if changes.is_empty() {
             return false;
         }
-        self.undo.push(Step { layer, changes });
+        self.push(Step::Patch { layer, changes });
+        true
+    }
+
+    /// Records a camera edit (`before` → `after`) as one undo step.
+    pub fn camera_edited(&mut self, before: StudioCamera, after: StudioCamera) {
+        self.push(Step::Camera { before: Box::new(before), after: Box::new(after) });
+    }
+
+    /// A new step: the oldest goes past [`HISTORY`], the redo history is dropped.
+    fn push(&mut self, step: Step) {
+        self.undo.push(step);
         if self.undo.len() > HISTORY {
             self.undo.remove(0);
         }
         self.redo.clear();
-        true
     }
 
-    /// Undoes the last step; returns its layer, `None` when there is nothing to undo.
-    pub fn undo(&mut self) -> Option<Layer> {
+    /// Undoes the last step; returns what it changed, `None` when there is nothing to undo.
+    pub fn undo(&mut self) -> Option<Undone> {
         let step = self.undo.pop()?;
-        let map = self.layer_mut(step.layer);
-        for &(i, before, _) in step.changes.iter().rev() {
-            map[i as usize] = before;
-        }
-        let layer = step.layer;
+        let undone = match &step {
+            Step::Patch { layer, changes } => {
+                let map = self.layer_mut(*layer);
+                for &(i, before, _) in changes.iter().rev() {
+                    map[i as usize] = before;
+                }
+                Undone::Layer(*layer)
+            }
+            Step::Camera { before, .. } => Undone::Camera(before.as_ref().clone()),
+        };
         self.redo.push(step);
-        Some(layer)
+        Some(undone)
     }
 
-    /// Redoes the last undone step; returns its layer.
-    pub fn redo(&mut self) -> Option<Layer> {
+    /// Redoes the last undone step; returns what it changed.
+    pub fn redo(&mut self) -> Option<Undone> {
         let step = self.redo.pop()?;
-        let map = self.layer_mut(step.layer);
-        for &(i, _, after) in &step.changes {
-            map[i as usize] = after;
-        }
-        let layer = step.layer;
+        let redone = match &step {
+            Step::Patch { layer, changes } => {
+                let map = self.layer_mut(*layer);
+                for &(i, _, after) in changes {
+                    map[i as usize] = after;
+                }
+                Undone::Layer(*layer)
+            }
+            Step::Camera { after, .. } => Undone::Camera(after.as_ref().clone()),
+        };
         self.undo.push(step);
-        Some(layer)
+        Some(redone)
     }
 
     /// Whether there is a step to undo.
@@ -162,12 +194,12 @@ mod tests {
         assert_eq!(m.labels, [0, 0, 0, 0, 0, 1, 1, 0, 0, 0, 2, 0]);
         assert!(!m.paint(Layer::Labels, [1, 1, 2, 2], &patch), "a patch that changes nothing is no step");
         assert!(m.paint(Layer::Regions, [0, 0, 1, 1], &[3]));
-        assert_eq!(m.undo(), Some(Layer::Regions));
+        assert_eq!(m.undo(), Some(Undone::Layer(Layer::Regions)));
         assert_eq!(m.regions, [0; 12]);
-        assert_eq!(m.undo(), Some(Layer::Labels));
+        assert_eq!(m.undo(), Some(Undone::Layer(Layer::Labels)));
         assert_eq!(m.labels, [0; 12]);
         assert_eq!(m.undo(), None);
-        assert_eq!(m.redo(), Some(Layer::Labels));
+        assert_eq!(m.redo(), Some(Undone::Layer(Layer::Labels)));
         assert_eq!(m.labels, [0, 0, 0, 0, 0, 1, 1, 0, 0, 0, 2, 0]);
         assert!(m.can_redo());
         m.paint(Layer::Labels, [0, 0, 1, 1], &[2]);

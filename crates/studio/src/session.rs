@@ -5,7 +5,7 @@
 
 use crate::camera::StudioCamera;
 use crate::error::{Result, StudioError};
-use crate::maps::Maps;
+use crate::maps::{Maps, Undone};
 use crate::protocol::{Layer, Outbound, ViewMode};
 use base64::Engine as _;
 use base64::engine::general_purpose::STANDARD as BASE64;
@@ -152,21 +152,30 @@ impl Session {
         Ok(changed)
     }
 
-    /// Undoes (or with `redo`, redoes) a step; returns the layer it touched.
-    pub fn undo(&mut self, redo: bool) -> Option<Layer> {
-        let maps = &mut self.key_mut().maps;
-        let layer = if redo { maps.redo() } else { maps.undo() };
-        if layer.is_some() {
-            self.seq += 1;
-        }
-        layer
+    /// Undoes (or with `redo`, redoes) a step, a stroke or a camera edit; returns the layer
+    /// it touched (none for a camera edit).
+    pub fn undo(&mut self, redo: bool) -> Option<Option<Layer>> {
+        let key = self.key_mut();
+        let undone = if redo { key.maps.redo() } else { key.maps.undo() }?;
+        let layer = match undone {
+            Undone::Layer(layer) => Some(layer),
+            Undone::Camera(camera) => {
+                let i = camera.index as usize - 1;
+                key.cameras[i] = camera;
+                None
+            }
+        };
+        self.seq += 1;
+        Some(layer)
     }
 
-    /// Moves a camera (checked first).
+    /// Moves a camera (checked first), as one undo step.
     pub fn edit_camera(&mut self, edit: &crate::protocol::CameraEdit) -> Result<()> {
-        let moved = self.key().camera(edit.index)?.edited(edit)?;
+        let before = self.key().camera(edit.index)?.clone();
+        let moved = before.edited(edit)?;
         let key = self.key_mut();
-        key.cameras[edit.index as usize - 1] = moved;
+        key.cameras[edit.index as usize - 1] = moved.clone();
+        key.maps.camera_edited(before, moved);
         self.seq += 1;
         Ok(())
     }

@@ -139,7 +139,16 @@ impl Worker {
             let rays = Arc::new(out.rays.clone());
             let mut spp = 1;
             loop {
-                let image = self.rerender(&tracer, snap, &rays, res, spp, &stale)?;
+                let mut image = self.rerender(&tracer, snap, &rays, res, spp, &stale)?;
+                if spp < view_spp {
+                    // Painted pixels keep their camera's view samples until the rerender has
+                    // as many there (it traces those very rays); from then on it is exactly
+                    // `mcctrace rerender --spp N`.
+                    let views = &self.cameras;
+                    image = composite(res.x, res.y, &image, &snap.labels, |k| {
+                        views.get(&(k as u32)).and_then(|c| c.view.as_ref())
+                    });
+                }
                 self.send(snap, ImageKind::Preview, None, spp, &srgb(&image))?;
                 if spp >= self.shared.settings.preview_spp {
                     break;

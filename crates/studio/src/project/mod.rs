@@ -14,7 +14,7 @@ mod final_render;
 mod save;
 
 pub use final_render::start_final;
-pub use save::save;
+pub use save::{key_collage, save};
 
 use crate::Config;
 use crate::camera::StudioCamera;
@@ -23,6 +23,7 @@ use crate::error::{Result, StudioError};
 use crate::maps::Maps;
 use crate::session::{Key, MAX_CAMERAS, Session};
 use crate::source::SceneSource;
+use mcc::layers::CameraNames;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -120,29 +121,36 @@ fn check_cameras(cameras: &[StudioCamera]) -> Result<()> {
     Ok(())
 }
 
-/// The label map of a collage file (a tagged image or layered file, e.g. cut in an editor) and
-/// its region map (the region image beside it, if any): the batch remapper's own decoding.
-pub fn read_collage(path: &Path, res: [u32; 2], cameras: usize) -> Result<Maps> {
-    let (collage, _) = mcc::Collage::load(path, None, mcc::CollageOptions::default())?;
+/// The label map of a collage file (a tagged image, or a layered OpenRaster or PSD file cut in
+/// an editor, its layers named after `cameras` or their numbers) and its region map (the
+/// file's `regions` group, else the region image beside it, if any): read by the batch
+/// remapper's own reader, `mcc::layers::open_collage`.
+pub fn read_collage(path: &Path, res: [u32; 2], cameras: &[StudioCamera]) -> Result<Maps> {
+    let known: std::collections::BTreeSet<u32> = cameras.iter().map(|c| c.index).collect();
+    let names = CameraNames::with_names(Some(known), cameras.iter().map(|c| (c.name.clone(), c.index)));
+    let opened = mcc::layers::open_collage(path, None, &names, mcc::CollageOptions::default())?;
+    let collage = opened.collage;
     let [w, h] = res;
     collage.check_size(path, w, h, "the studio's resolution (--res)")?;
     let labels = collage
         .ids
         .iter()
         .map(|&id| {
-            u8::try_from(id).ok().filter(|&l| (l as usize) <= cameras).ok_or_else(|| StudioError::Project {
-                path: path.to_path_buf(),
-                message: format!("uses camera {id}, but the session has {cameras} cameras"),
+            u8::try_from(id).ok().filter(|&l| (l as usize) <= cameras.len()).ok_or_else(|| {
+                StudioError::Project {
+                    path: path.to_path_buf(),
+                    message: format!("uses camera {id}, but the session has {} cameras", cameras.len()),
+                }
             })
         })
         .collect::<Result<Vec<u8>>>()?;
-    let (regions, used) = mcc::Regions::find(path, None, w, h)?;
-    let regions = regions
+    let regions = opened
+        .regions
         .index
         .iter()
         .map(|&r| {
             u8::try_from(r).ok().filter(|&r| r < 255).ok_or_else(|| StudioError::Project {
-                path: used.clone().unwrap_or_default(),
+                path: path.to_path_buf(),
                 message: "more than 255 regions".into(),
             })
         })
@@ -162,7 +170,7 @@ pub fn open_session(config: &Config) -> Result<Shared> {
             check_cameras(&cameras)?;
             let [w, h] = config.res;
             let maps = match &config.collage {
-                Some(path) => read_collage(path, config.res, cameras.len())?,
+                Some(path) => read_collage(path, config.res, &cameras)?,
                 None => Maps::new(w, h),
             };
             (Session::new(config.res, config.frame, Key { cameras, maps }), source)
@@ -179,7 +187,7 @@ fn open_project(dir: &Path) -> Result<(Session, SceneSource)> {
     let source = SceneSource::load(file.scene.clone(), file.scene_cameras.clone())?;
     let mut keys = std::collections::BTreeMap::new();
     for key in &file.keys {
-        let maps = read_collage(&dir.join(&key.collage), file.res, key.cameras.len())?;
+        let maps = read_collage(&dir.join(&key.collage), file.res, &key.cameras)?;
         keys.insert(key.frame, Key { cameras: key.cameras.clone(), maps });
     }
     let mut session = Session::new(file.res, file.frame, keys.remove(&file.frame).expect("checked"));

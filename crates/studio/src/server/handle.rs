@@ -29,11 +29,14 @@ fn run(shared: &Arc<Shared>, id: Option<u64>, request: Request) -> Result<Vec<Ou
             return Ok(replies);
         }
         Request::Paint { layer, rect, data } => {
-            session.paint(layer, rect, &data)?;
+            if session.paint(layer, rect, &data)? {
+                // Every tab sees the stroke (docs/studio.md, "Protocol").
+                layers.push(layer);
+            }
         }
         Request::Undo | Request::Redo => {
             let redo = matches!(request, Request::Redo);
-            layers.extend(session.undo(redo));
+            layers.extend(session.undo(redo).flatten());
         }
         Request::CameraEdit(edit) => session.edit_camera(&edit)?,
         Request::CameraDuplicate { index } => {
