@@ -119,7 +119,17 @@ async fn session(rounds: usize) {
     let t = Instant::now();
     let state = client.paint([0, 0, w, h], &labels).await;
     let spp = studio::EngineSettings::default().preview_spp;
-    client.preview(state["seq"].as_u64().unwrap(), spp).await;
+    // Eight views at the collage size come first, with no message for minutes on a loaded
+    // machine: wait longer than the client's usual minute.
+    let seq = state["seq"].clone();
+    loop {
+        match client.try_recv(Duration::from_secs(1800)).await.expect("the studio answers within 30 min") {
+            Msg::Image(hd, _) if hd["kind"] == "preview" && hd["seq"] == seq && hd["spp"] == json!(spp) => {
+                break;
+            }
+            _ => {}
+        }
+    }
     let idle = t.elapsed().as_secs_f64();
     let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
     let peak = status.lines().find(|l| l.starts_with("VmHWM")).unwrap_or("VmHWM: unknown");
