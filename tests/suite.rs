@@ -26,6 +26,8 @@ mod scene_features;
 mod seamless_blend;
 mod stress;
 mod stress_mcc;
+mod studio;
+mod studio_page;
 
 /// With `autotests = false`, Cargo no longer builds `tests/*.rs` as binaries of their own: a test
 /// file that this root does not declare would silently never run.

@@ -17,6 +17,7 @@ mod remap;
 mod render;
 mod rerender;
 mod setup;
+mod studio;
 mod tag;
 
 use clap::{Parser, Subcommand};
@@ -59,6 +60,8 @@ enum Command {
     /// Run the main job on the bundled scene and write every picture to one folder
     /// (--animation: the keyframe workflow, a short animated shot).
     Demo(demo::DemoArgs),
+    /// Paint a collage in a local web page and watch its rerender refine (prints the URL).
+    Studio(studio::StudioArgs),
 }
 
 /// Runs the command line `args` (program name first); errors are printed, not panicked.
@@ -109,6 +112,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Farm(a) => farm::run(a),
         Command::Merge(a) => merge::run(a),
         Command::Demo(a) => demo::run(a),
+        Command::Studio(a) => studio::run(a),
     }
 }
 

@@ -12,11 +12,12 @@
 use crate::error::MccError;
 use crate::names::view_rays_name;
 use crate::ray_file::{RayFile, RayFormat, StoredRay};
+use glam::UVec2;
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use tracer::camera::CameraSample;
 use tracer::error::LensError;
-use tracer::lens::{FrameContext, LensShader};
+use tracer::lens::{FrameContext, FrameInfo, LensShader, RayGenerator};
 use tracer::ray::Ray;
 
 /// Records every pixel-centre eye ray of a view and writes its ray file.
@@ -42,43 +43,57 @@ impl LensWriter {
 
     /// Records the frame's rays from `ctx.upstream`.
     fn record(&mut self, ctx: &FrameContext<'_>) -> Result<(), MccError> {
-        let (w, h) = (ctx.resolution.x, ctx.resolution.y);
         std::fs::create_dir_all(&self.dir).map_err(|e| MccError::io(&self.dir, e))?;
         // Reuse last frame's allocation: the size rarely changes between frames.
-        let mut rays = self.current.take().map(|f| f.rays).unwrap_or_default();
-        rays.clear();
-        rays.resize(w as usize * h as usize, StoredRay::default());
-        let upstream = ctx.upstream;
-        let time = ctx.shutter.0;
-        // Every row reports its first bad pixel; the smallest (row, column) wins, so the error is
-        // the same whatever the thread count.
-        let problem = rays
-            .par_chunks_mut(w.max(1) as usize)
-            .enumerate()
-            .filter_map(|(j, row)| {
-                for (i, out) in row.iter_mut().enumerate() {
-                    let (i, j) = (i as u32, j as u32);
-                    let Some(ray) = upstream.generate(&CameraSample::pixel_centre(i, j, time)) else {
-                        return Some((j, i, None));
-                    };
-                    *out = StoredRay::new(ray.origin, ray.direction);
-                    if let Some(defect) = out.defect() {
-                        return Some((j, i, Some(defect)));
-                    }
-                }
-                None
-            })
-            .min_by_key(|&(j, i, _)| (j, i));
-        let (frame, camera) = (ctx.frame, ctx.camera_id);
-        if let Some((j, i, defect)) = problem {
-            return Err(match defect {
-                None => MccError::DroppedRay { frame, camera, i, j },
-                Some(message) => MccError::BadRay { frame, camera, i, j, message },
-            });
-        }
-        self.current = Some(RayFile::new(w, h, frame, camera, rays)?);
+        let reuse = self.current.take().map(|f| f.rays).unwrap_or_default();
+        let frame = FrameInfo { frame: ctx.frame, camera_id: ctx.camera_id, shutter: ctx.shutter };
+        self.current = Some(pixel_centre_rays(ctx.upstream, ctx.resolution, frame, reuse)?);
         Ok(())
     }
+}
+
+/// The pixel-centre eye ray of every pixel of a `resolution` film from `upstream` (lens centre,
+/// time = the shutter's opening), as the view's ray file for `frame`: what the lens writer
+/// records, and what the studio takes from a camera model without tracing (docs/design.md
+/// §4.7). `reuse` is an allocation to fill. Rows run in parallel; a dropped or bad ray is an
+/// error naming the first such pixel, whatever the thread count.
+pub fn pixel_centre_rays(
+    upstream: &dyn RayGenerator,
+    resolution: UVec2,
+    frame: FrameInfo,
+    mut rays: Vec<StoredRay>,
+) -> Result<RayFile, MccError> {
+    let (w, h) = (resolution.x, resolution.y);
+    rays.clear();
+    rays.resize(w as usize * h as usize, StoredRay::default());
+    let time = frame.shutter.0;
+    // Every row reports its first bad pixel; the smallest (row, column) wins, so the error is
+    // the same whatever the thread count.
+    let problem = rays
+        .par_chunks_mut(w.max(1) as usize)
+        .enumerate()
+        .filter_map(|(j, row)| {
+            for (i, out) in row.iter_mut().enumerate() {
+                let (i, j) = (i as u32, j as u32);
+                let Some(ray) = upstream.generate(&CameraSample::pixel_centre(i, j, time)) else {
+                    return Some((j, i, None));
+                };
+                *out = StoredRay::new(ray.origin, ray.direction);
+                if let Some(defect) = out.defect() {
+                    return Some((j, i, Some(defect)));
+                }
+            }
+            None
+        })
+        .min_by_key(|&(j, i, _)| (j, i));
+    let (frame, camera) = (frame.frame, frame.camera_id);
+    if let Some((j, i, defect)) = problem {
+        return Err(match defect {
+            None => MccError::DroppedRay { frame, camera, i, j },
+            Some(message) => MccError::BadRay { frame, camera, i, j, message },
+        });
+    }
+    RayFile::new(w, h, frame, camera, rays)
 }
 
 impl LensShader for LensWriter {
@@ -110,9 +125,9 @@ impl LensShader for LensWriter {
 mod tests {
     use super::*;
     use crate::test_util::scratch_dir;
-    use glam::{UVec2, Vec3};
+    use glam::Vec3;
     use tracer::camera::{Camera, CameraDesc, Projection};
-    use tracer::lens::{FrameInfo, LensChain, RayGenerator};
+    use tracer::lens::LensChain;
 
     fn camera(projection: Projection, res: UVec2) -> Box<dyn Camera> {
         CameraDesc::look_at("c", Vec3::new(1.0, 2.0, 3.0), Vec3::new(0.0, 0.5, -1.0), Vec3::Y, projection)

@@ -1,0 +1,91 @@
+//! `mcctrace studio`: parses the flags, starts the studio's server (`studio::serve`,
+//! docs/studio.md) and prints its URL; the server runs until the process is stopped.
+
+use crate::args::Resolution;
+use anyhow::{Context, bail};
+use clap::Args;
+use std::net::IpAddr;
+use std::path::PathBuf;
+
+/// Arguments of `mcctrace studio`.
+#[derive(Args, Debug)]
+pub struct StudioArgs {
+    /// A scene file (.gltf, .glb, .obj) to start a new project from, or a project folder a
+    /// studio saved (it holds studio.json) to reopen.
+    pub input: PathBuf,
+    /// A scene camera to paint with, by name (repeat; default: all the scene's cameras).
+    #[arg(long = "camera", value_name = "NAME")]
+    pub cameras: Vec<String>,
+    /// Collage resolution.
+    #[arg(long, default_value = "480x270")]
+    pub res: Resolution,
+    /// The first key's frame.
+    #[arg(long, default_value_t = 0)]
+    pub frame: u32,
+    /// Start from an existing collage (a tagged image, e.g. cut in an editor; its region image
+    /// beside it is used too).
+    #[arg(long)]
+    pub collage: Option<PathBuf>,
+    /// The project folder saves go to (default: <scene-stem>-studio in the current folder).
+    #[arg(long)]
+    pub project: Option<PathBuf>,
+    /// Port to listen on (default: any free port).
+    #[arg(long, default_value_t = 0)]
+    pub port: u16,
+    /// Address to listen on. The default, 127.0.0.1, keeps the studio on this machine; any other
+    /// address lets other machines reach it (they still need the token).
+    #[arg(long, default_value = "127.0.0.1")]
+    pub listen: IpAddr,
+    /// Open the page in the default browser.
+    #[arg(long)]
+    pub open: bool,
+}
+
+pub fn run(a: StudioArgs) -> anyhow::Result<()> {
+    let is_project = a.input.join(::studio::project::PROJECT_FILE).is_file();
+    let (scene, project) = if is_project {
+        if a.collage.is_some() || !a.cameras.is_empty() {
+            bail!(
+                "{}: a project folder keeps its cameras and collages; --camera and --collage are for a scene",
+                a.input.display()
+            );
+        }
+        (None, a.project.unwrap_or_else(|| a.input.clone()))
+    } else {
+        let stem =
+            a.input.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scene".into());
+        (Some(a.input.clone()), a.project.unwrap_or_else(|| PathBuf::from(format!("{stem}-studio"))))
+    };
+    let config = ::studio::Config {
+        cameras: a.cameras,
+        res: [a.res.0.x, a.res.0.y],
+        frame: a.frame,
+        collage: a.collage,
+        listen: a.listen,
+        port: a.port,
+        ..::studio::Config::new(scene, project.clone())
+    };
+    let running =
+        ::studio::serve(config).with_context(|| format!("starting the studio on {}", a.input.display()))?;
+    println!("studio: {}", running.url());
+    println!("project folder: {} (Ctrl-C stops the studio)", project.display());
+    if a.open {
+        open_browser(running.url());
+    }
+    running.wait();
+    Ok(())
+}
+
+/// Asks the desktop to open `url`; a failure is only a note (the URL is printed).
+fn open_browser(url: &str) {
+    let opener = if cfg!(target_os = "macos") {
+        "open"
+    } else if cfg!(windows) {
+        "explorer"
+    } else {
+        "xdg-open"
+    };
+    if let Err(e) = std::process::Command::new(opener).arg(url).spawn() {
+        eprintln!("note: could not open a browser ({opener}: {e}); open the URL above");
+    }
+}

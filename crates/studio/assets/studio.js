@@ -1,0 +1,547 @@
+// The studio page (docs/studio.md): the collage canvas, its tools and the camera controls.
+// Every tool is rasterised here into `paint` patches (whole pixels, no antialiasing: each pixel is
+// one camera or the background), so the server needs no brush code. Images arrive as a JSON
+// header and one binary PNG; they are decoded off the main path (createImageBitmap) and dropped
+// when a newer `seq` has made them stale.
+'use strict';
+(() => {
+  const $ = (id) => document.getElementById(id);
+  const token = new URLSearchParams(location.search).get('token') || '';
+  const canvas = $('canvas');
+  const overlay = $('overlay');
+  const ctx = canvas.getContext('2d', { willReadFrequently: true });
+  const octx = overlay.getContext('2d');
+
+  // What the page knows; `window.studio` lets the browser test read it.
+  const S = {
+    state: null, W: 0, H: 0, labels: null, regions: null,
+    selected: 1, mode: 'final', tool: 'brush',
+    seq: 0, imageSeq: new Map(), // newest seq per image kind and camera
+    preview: null, previewSpp: 0, previewSeq: -1, previews: 0, previewLog: [],
+    savedDir: null, finalBytes: null, finalExr: null, loadedAt: null, paintPending: false, paints: 0,
+    sources: [], // per camera index: { data: RGBA at the collage size, seq, full }
+    view: null, viewMode: null, finalUrl: null,
+    selection: null, clipboard: null, paintIds: new Set(),
+    // Replies go to every tab: ids start at random so one tab never takes another's as its own.
+    nextId: 1 + Math.floor(Math.random() * 1e9),
+    longTasks: [], errors: [],
+  };
+  window.studio = S;
+  // A script error is an error of the page: kept with the server's, for the browser test.
+  window.addEventListener('error', (e) => S.errors.push(`script: ${e.message}`));
+
+  // Long tasks (anything blocking the page over 50 ms) are kept for the test and the status line.
+  try {
+    new PerformanceObserver((list) => {
+      for (const e of list.getEntries()) S.longTasks.push({ start: Math.round(e.startTime), ms: Math.round(e.duration) });
+    }).observe({ type: 'longtask', buffered: true });
+  } catch (_) { /* not supported: nothing to record */ }
+
+  // ---- the connection -------------------------------------------------------------------------
+  let ws = null;
+  let pendingImage = null;
+  function connect() {
+    const scheme = location.protocol === 'https:' ? 'wss:' : 'ws:';
+    ws = new WebSocket(`${scheme}//${location.host}/ws?token=${encodeURIComponent(token)}`);
+    ws.binaryType = 'arraybuffer';
+    ws.onopen = () => { $('conn').textContent = 'connected'; send({ type: 'hello' }); };
+    ws.onclose = () => { $('conn').textContent = 'disconnected: reload the page'; };
+    ws.onmessage = (ev) => {
+      if (typeof ev.data === 'string') onMessage(JSON.parse(ev.data));
+      else onImageBytes(ev.data);
+    };
+  }
+  function send(msg) {
+    msg.id = S.nextId++;
+    if (ws && ws.readyState === WebSocket.OPEN) ws.send(JSON.stringify(msg));
+    return msg.id;
+  }
+
+  function onMessage(m) {
+    switch (m.type) {
+      case 'state': applyState(m); break;
+      case 'labels': onLabels(m); break;
+      case 'progress': onProgress(m); break;
+      case 'saved': S.savedDir = m.dir; note(`saved to ${m.dir}`); break;
+      case 'error': onError(m); break;
+      case 'final': onFinalDone(m); break;
+      case 'image': pendingImage = m; break;
+      default: break;
+    }
+  }
+
+  function onError(m) {
+    S.errors.push(m.message);
+    note(m.message, true);
+    if (m.id === S.finalId) { $('render-final').disabled = false; $('cancel-final').disabled = true; }
+    // A refused stroke leaves the page's optimistic copy wrong: ask for the server's maps again.
+    if (S.paintIds.has(m.id)) { paintDone(m.id); send({ type: 'hello' }); }
+  }
+
+  // Every tab's maps as the server holds them (strokes of other tabs too). While this tab's own
+  // strokes are on their way the newest map waits: it would hide them; the reply to the last
+  // one brings it in, with everything up to that stroke.
+  const waitingLabels = {};
+  function onLabels(m) {
+    if (S.paintIds.size) waitingLabels[m.layer] = m;
+    else setLayer(m.layer, paint.decodeBase64(m.data));
+  }
+  function paintDone(id) {
+    if (!S.paintIds.delete(id) || S.paintIds.size) return;
+    for (const [layer, m] of Object.entries(waitingLabels)) {
+      setLayer(layer, paint.decodeBase64(m.data));
+      delete waitingLabels[layer];
+    }
+  }
+
+  function onProgress(m) {
+    if (m.job !== 'final') return;
+    const bar = $('final-progress');
+    bar.max = Math.max(1, m.total);
+    bar.value = m.done;
+  }
+
+  // ---- images -----------------------------------------------------------------------------------
+  function imageKey(h) { return `${h.kind}:${h.camera ?? ''}`; }
+  function stale(h) {
+    // A preview is stale after any newer stroke or camera change; a camera's thumb or view only
+    // after a newer one of that camera.
+    if (h.kind === 'preview') return h.seq < S.seq;
+    return h.seq < (S.imageSeq.get(imageKey(h)) ?? -1);
+  }
+  function onImageBytes(buf) {
+    const h = pendingImage;
+    pendingImage = null;
+    if (!h) return;
+    S.seq = Math.max(S.seq, h.seq ?? 0);
+    if (stale(h)) return;
+    S.imageSeq.set(imageKey(h), h.seq);
+    if (h.kind === 'final') { showFinal(h, buf); return; }
+    const requestedMode = S.mode;
+    createImageBitmap(new Blob([buf], { type: 'image/png' })).then((bmp) => {
+      if (stale(h) || (S.imageSeq.get(imageKey(h)) ?? -1) > h.seq) { bmp.close(); return; }
+      onImage(h, bmp, requestedMode);
+    }, () => note(`could not decode a ${h.kind} image`, true));
+  }
+
+  const scratch = document.createElement('canvas');
+  const sctx = scratch.getContext('2d', { willReadFrequently: true });
+  // The bitmap's pixels at the collage size (scaled if it is a coarse or thumbnail image).
+  function pixelsAtCollageSize(bmp) {
+    scratch.width = S.W;
+    scratch.height = S.H;
+    sctx.imageSmoothingEnabled = true;
+    sctx.drawImage(bmp, 0, 0, S.W, S.H);
+    return sctx.getImageData(0, 0, S.W, S.H).data;
+  }
+
+  function onImage(h, bmp, requestedMode) {
+    const full = bmp.width === S.W && bmp.height === S.H;
+    if (S.loadedAt === null) S.loadedAt = performance.now();
+    if (h.kind === 'preview') {
+      S.preview = pixelsAtCollageSize(bmp);
+      const p = S.paintPending;
+      if (p && (p.seq !== null ? h.seq >= p.seq : h.seq > p.after)) S.paintPending = false;
+      S.previewSpp = h.spp;
+      S.previewSeq = h.seq;
+      S.previews += 1;
+      S.previewLog.push({ seq: h.seq, spp: h.spp, w: bmp.width, h: bmp.height, t: performance.now() });
+      $('preview-info').textContent = `preview ${bmp.width}×${bmp.height}, ${h.spp} spp`;
+    } else if (h.kind === 'thumb') {
+      drawThumb(h.camera, bmp);
+      const src = S.sources[h.camera];
+      if (!src || !src.full || src.seq < h.seq) S.sources[h.camera] = { data: pixelsAtCollageSize(bmp), seq: h.seq, full };
+    } else if (h.kind === 'view') {
+      S.view = bmp;
+      S.viewMode = requestedMode;
+      if (h.camera && requestedMode === 'source') {
+        S.sources[h.camera] = { data: pixelsAtCollageSize(bmp), seq: h.seq, full };
+      }
+    }
+    schedule();
+  }
+
+  function drawThumb(index, bmp) {
+    const c = document.querySelector(`#camera-list li[data-index="${index}"] canvas`);
+    if (!c) return;
+    c.width = bmp.width;
+    c.height = bmp.height;
+    c.getContext('2d').drawImage(bmp, 0, 0);
+  }
+
+  // The final render is shown from the server's own PNG bytes, never re-encoded.
+  function showFinal(h, buf) {
+    S.finalBytes = new Uint8Array(buf);
+    if (S.finalUrl) URL.revokeObjectURL(S.finalUrl);
+    S.finalUrl = URL.createObjectURL(new Blob([buf], { type: 'image/png' }));
+    $('final-img').src = S.finalUrl;
+    $('final-link').href = S.finalUrl;
+    $('final-link').hidden = false;
+    note(`final render ${h.w}×${h.h}, ${h.spp} spp done`);
+  }
+
+  // The final render's end: where it was written, or that it was cancelled.
+  function onFinalDone(m) {
+    $('render-final').disabled = false;
+    $('cancel-final').disabled = true;
+    if (m.cancelled) note('final render cancelled');
+    else if (m.exr) { S.finalExr = m.exr; note(`final render written to ${m.exr}`); }
+  }
+
+  // ---- state ------------------------------------------------------------------------------------
+  function applyState(st) {
+    S.state = st;
+    if (Number.isFinite(st.seq)) S.seq = Math.max(S.seq, st.seq);
+    if (S.paintPending && S.paintPending.id === st.id && Number.isFinite(st.seq)) S.paintPending.seq = st.seq;
+    if (S.paintIds.has(st.id)) paintDone(st.id);
+    const [w, h] = st.res;
+    if (w !== S.W || h !== S.H) resize(w, h);
+    if (!st.cameras.some((c) => c.index === S.selected) && st.cameras.length) S.selected = st.cameras[0].index;
+    renderCameraList();
+    fillCameraForm();
+    $('seamless').checked = !!st.seamless;
+    if (document.activeElement !== $('frame')) $('frame').value = st.frame;
+    $('frames').replaceChildren(...(st.frames || []).map((f) => new Option(String(f), String(f))));
+    $('undo').disabled = !st.can_undo;
+    $('redo').disabled = !st.can_redo;
+    schedule();
+  }
+
+  function resize(w, h) {
+    S.W = w;
+    S.H = h;
+    S.labels = new Uint8Array(w * h);
+    S.regions = new Uint8Array(w * h);
+    S.out = new ImageData(w, h);
+    S.preview = null;
+    S.sources = [];
+    for (const c of [canvas, overlay]) { c.width = w; c.height = h; }
+    fitCanvas();
+  }
+
+  function fitCanvas() {
+    if (!S.W) return;
+    const box = $('canvas-box');
+    const scale = Math.max(1, Math.floor(Math.min(box.clientWidth / S.W, (box.clientHeight || 1e9) / S.H)));
+    for (const c of [canvas, overlay]) {
+      c.style.width = `${S.W * scale}px`;
+      c.style.height = `${S.H * scale}px`;
+    }
+  }
+  window.addEventListener('resize', fitCanvas);
+
+  function camera(index) { return S.state && S.state.cameras.find((c) => c.index === index); }
+
+  function renderCameraList() {
+    const list = $('camera-list');
+    const keep = new Map([...list.children].map((li) => [Number(li.dataset.index), li]));
+    const items = S.state.cameras.map((c) => {
+      let li = keep.get(c.index);
+      if (!li) {
+        li = document.createElement('li');
+        li.dataset.index = c.index;
+        li.innerHTML = '<span class="swatch"></span><span class="name"></span>'
+          + '<button class="dup" title="Duplicate this camera">duplicate</button><canvas width="96" height="54"></canvas>';
+        li.addEventListener('click', (e) => {
+          if (e.target.classList.contains('dup')) send({ type: 'camera_duplicate', index: c.index });
+          else selectCamera(c.index);
+        });
+      }
+      li.querySelector('.swatch').style.background = c.color;
+      li.querySelector('.name').textContent = `${c.index} ${c.name}`;
+      li.classList.toggle('on', c.index === S.selected);
+      return li;
+    });
+    list.replaceChildren(...items);
+  }
+
+  function selectCamera(index) {
+    S.selected = index;
+    renderCameraList();
+    fillCameraForm();
+    if (S.mode === 'source' || S.mode === 'weights') setView(S.mode);
+  }
+
+  // ---- the camera form and mouse controls ----------------------------------------------------
+  const form = $('camera-form');
+  function fillCameraForm() {
+    const c = camera(S.selected);
+    if (!c || drag) return;
+    for (let i = 0; i < 3; i++) {
+      form[`eye${i}`].value = round(c.eye[i]);
+      form[`target${i}`].value = round(c.target[i]);
+    }
+    form.fov.value = round(c.fov_deg);
+  }
+  const round = (v) => Math.round(v * 1e4) / 1e4;
+  form.addEventListener('change', () => {
+    const c = camera(S.selected);
+    if (!c) return;
+    const num = (n, old) => (Number.isFinite(parseFloat(form[n].value)) ? parseFloat(form[n].value) : old);
+    c.eye = c.eye.map((v, i) => num(`eye${i}`, v));
+    c.target = c.target.map((v, i) => num(`target${i}`, v));
+    c.fov_deg = num('fov', c.fov_deg);
+    sendCamera(c);
+  });
+  form.addEventListener('submit', (e) => e.preventDefault());
+
+  function sendCamera(c) {
+    send({ type: 'camera_edit', index: c.index, eye: c.eye, target: c.target, up: c.up, fov_deg: c.fov_deg });
+  }
+
+  const sub = (a, b) => a.map((v, i) => v - b[i]);
+  const add = (a, b) => a.map((v, i) => v + b[i]);
+  const mul = (a, s) => a.map((v) => v * s);
+  const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+  const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+  const norm = (a) => mul(a, 1 / Math.hypot(...a));
+  // Rodrigues' rotation of v about the unit axis k by angle t.
+  const rotate = (v, k, t) => add(add(mul(v, Math.cos(t)), mul(cross(k, v), Math.sin(t))), mul(k, dot(k, v) * (1 - Math.cos(t))));
+
+  let camTimer = 0;
+  function moveCamera(c, kind, dx, dy) {
+    const up = norm(c.up);
+    const back = sub(c.eye, c.target);
+    if (kind === 'orbit') {
+      let b = rotate(back, up, -dx * 0.01);
+      const right = norm(cross(up, b));
+      const b2 = rotate(b, right, -dy * 0.01);
+      // Stop short of the poles, where the up vector would flip the view.
+      if (Math.abs(dot(norm(b2), up)) < 0.98) b = b2;
+      c.eye = add(c.target, b);
+    } else if (kind === 'pan') {
+      const dist = Math.hypot(...back);
+      const perPixel = (2 * dist * Math.tan((c.fov_deg * Math.PI) / 360)) / S.H;
+      const right = norm(cross(back, up));
+      const camUp = norm(cross(right, back));
+      const shift = add(mul(right, dx * perPixel), mul(camUp, dy * perPixel));
+      c.eye = add(c.eye, shift);
+      c.target = add(c.target, shift);
+    } else {
+      c.eye = add(c.target, mul(back, Math.exp(dy * 0.002)));
+    }
+    fillCameraFormFrom(c);
+    // At most one edit per 40 ms while dragging; the last one is always sent.
+    if (!camTimer) camTimer = setTimeout(() => { camTimer = 0; sendCamera(c); }, 40);
+  }
+  function fillCameraFormFrom(c) {
+    for (let i = 0; i < 3; i++) { form[`eye${i}`].value = round(c.eye[i]); form[`target${i}`].value = round(c.target[i]); }
+  }
+
+  // ---- views ------------------------------------------------------------------------------------
+  function setView(mode) {
+    S.mode = mode;
+    S.view = null;
+    for (const b of document.querySelectorAll('#views button')) b.classList.toggle('on', b.dataset.view === mode);
+    const msg = { type: 'view', mode };
+    if (mode === 'source' || mode === 'weights') msg.camera = S.selected;
+    send(msg);
+    overlay.style.cursor = mode === 'source' ? 'grab' : 'crosshair';
+    schedule();
+  }
+  for (const b of document.querySelectorAll('#views button')) b.addEventListener('click', () => setView(b.dataset.view));
+
+  // ---- drawing the canvas -----------------------------------------------------------------------
+  let frameRequested = false;
+  function schedule() {
+    if (!frameRequested) { frameRequested = true; requestAnimationFrame(draw); }
+  }
+
+  function hexColor(hex) { const v = parseInt(hex.slice(1), 16); return [v >> 16, (v >> 8) & 255, v & 255]; }
+  function regionColor(r) { return r ? [(r * 97) % 256, (r * 57 + 80) % 256, (r * 151 + 40) % 256] : [0, 0, 0]; }
+
+  function draw() {
+    frameRequested = false;
+    if (!S.W) return;
+    const o = S.out.data;
+    const n = S.W * S.H;
+    if (S.mode === 'final') {
+      // The server's preview is the composite (docs/studio.md, "Engine"), shown as it came.
+      // Only while a stroke waits for its preview do painted pixels take their camera's view
+      // (or thumbnail) here, so the paint shows at once.
+      const prev = S.preview;
+      const src = S.sources.map((s) => s && (S.paintPending || !prev) && s.data);
+      for (let i = 0, p = 0; i < n; i++, p += 4) {
+        const s = src[S.labels[i]] || prev;
+        if (s) { o[p] = s[p]; o[p + 1] = s[p + 1]; o[p + 2] = s[p + 2]; } else { o[p] = o[p + 1] = o[p + 2] = 0; }
+        o[p + 3] = 255;
+      }
+    } else if (S.mode === 'labels' || S.mode === 'regions') {
+      const map = S.mode === 'labels' ? S.labels : S.regions;
+      const table = [];
+      for (let v = 0; v < 256; v++) {
+        const c = S.mode === 'labels' ? camera(v) : null;
+        table.push(S.mode === 'labels' ? (c ? hexColor(c.color) : [0, 0, 0]) : regionColor(v));
+      }
+      for (let i = 0, p = 0; i < n; i++, p += 4) {
+        const c = table[map[i]];
+        o[p] = c[0]; o[p + 1] = c[1]; o[p + 2] = c[2]; o[p + 3] = 255;
+      }
+    } else {
+      ctx.fillStyle = '#000';
+      ctx.fillRect(0, 0, S.W, S.H);
+      const src = S.sources[S.selected];
+      if (S.view && S.viewMode === S.mode) ctx.drawImage(S.view, 0, 0, S.W, S.H);
+      else if (S.mode === 'source' && src) ctx.putImageData(new ImageData(new Uint8ClampedArray(src.data), S.W, S.H), 0, 0);
+      drawOverlay();
+      return;
+    }
+    ctx.putImageData(S.out, 0, 0);
+    drawOverlay();
+    // What the canvas now shows, for the browser test's hook (`afterDraw`).
+    S.drawn = { mode: S.mode, seq: S.previewSeq, spp: S.previewSpp };
+    if (S.afterDraw) S.afterDraw();
+  }
+
+  function drawOverlay() {
+    octx.clearRect(0, 0, S.W, S.H);
+    const sel = S.selection;
+    if (sel && S.mode !== 'source') {
+      octx.save();
+      octx.lineWidth = 1;
+      octx.setLineDash([3, 3]);
+      octx.strokeStyle = '#fff';
+      octx.strokeRect(sel.x + 0.5, sel.y + 0.5, sel.w - 1, sel.h - 1);
+      octx.strokeStyle = '#000';
+      octx.lineDashOffset = 3;
+      octx.strokeRect(sel.x + 0.5, sel.y + 0.5, sel.w - 1, sel.h - 1);
+      octx.restore();
+    }
+  }
+
+  // ---- strokes and patches ----------------------------------------------------------------------
+  function setLayer(layer, bytes) {
+    if (bytes.length !== S.W * S.H) return;
+    (layer === 'regions' ? S.regions : S.labels).set(bytes);
+    schedule();
+  }
+
+  const paint = window.studioPaint(S, send, schedule);
+  const { beginStroke, strokeTo, endStroke, copySelection, cut, paste, moveSelection, placePatch, clipRect } = paint;
+
+  $('cut').addEventListener('click', cut);
+  $('copy').addEventListener('click', copySelection);
+  $('paste').addEventListener('click', paste);
+
+  // ---- pointer input ----------------------------------------------------------------------------
+  function pixelAt(e) {
+    const r = overlay.getBoundingClientRect();
+    return { x: ((e.clientX - r.left) * S.W) / r.width, y: ((e.clientY - r.top) * S.H) / r.height };
+  }
+  let drag = null;
+  overlay.addEventListener('contextmenu', (e) => e.preventDefault());
+  overlay.addEventListener('pointerdown', (e) => {
+    if (!S.W || drag) return;
+    overlay.setPointerCapture(e.pointerId);
+    const p = pixelAt(e);
+    if (S.mode === 'source') {
+      const c = camera(S.selected);
+      if (c) drag = { kind: e.shiftKey || e.button !== 0 ? 'pan' : 'orbit', last: e, camera: c };
+    } else if (S.tool === 'select') {
+      const s = S.selection;
+      const inside = s && p.x >= s.x && p.y >= s.y && p.x < s.x + s.w && p.y < s.y + s.h;
+      drag = { kind: inside ? 'move' : 'select', start: p };
+    } else {
+      const layer = S.tool === 'region' ? 'regions' : 'labels';
+      const value = S.tool === 'brush' ? S.selected : S.tool === 'region' ? Math.min(254, Number($('region').value) | 0) : 0;
+      beginStroke(layer, value);
+      strokeTo(p);
+      drag = { kind: 'paint' };
+    }
+  });
+  overlay.addEventListener('pointermove', (e) => {
+    if (!drag) return;
+    // Coalesced events keep every pixel a fast stroke crossed.
+    const events = e.getCoalescedEvents ? e.getCoalescedEvents() : [e];
+    if (drag.kind === 'paint') for (const ev of events.length ? events : [e]) strokeTo(pixelAt(ev));
+    else if (drag.kind === 'orbit' || drag.kind === 'pan') {
+      moveCamera(drag.camera, drag.kind, e.clientX - drag.last.clientX, e.clientY - drag.last.clientY);
+      drag.last = e;
+    } else {
+      const p = pixelAt(e);
+      const a = drag.start;
+      if (drag.kind === 'select') {
+        S.selection = clipRect({ x: Math.floor(Math.min(a.x, p.x)), y: Math.floor(Math.min(a.y, p.y)),
+          w: Math.abs(Math.floor(p.x) - Math.floor(a.x)) + 1, h: Math.abs(Math.floor(p.y) - Math.floor(a.y)) + 1 });
+      } else {
+        drag.dx = Math.round(p.x - a.x);
+        drag.dy = Math.round(p.y - a.y);
+        const s = S.selection;
+        octx.clearRect(0, 0, S.W, S.H);
+        octx.strokeStyle = '#fff';
+        octx.strokeRect(s.x + drag.dx + 0.5, s.y + drag.dy + 0.5, s.w - 1, s.h - 1);
+        return;
+      }
+      schedule();
+    }
+  });
+  function endDrag() {
+    if (!drag) return;
+    const d = drag;
+    drag = null;
+    if (d.kind === 'paint') endStroke();
+    else if (d.kind === 'move' && (d.dx || d.dy)) moveSelection(d.dx, d.dy);
+    else if (d.kind === 'orbit' || d.kind === 'pan') { clearTimeout(camTimer); camTimer = 0; sendCamera(d.camera); }
+    schedule();
+  }
+  overlay.addEventListener('pointerup', endDrag);
+  overlay.addEventListener('pointercancel', endDrag);
+  overlay.addEventListener('wheel', (e) => {
+    const c = camera(S.selected);
+    if (S.mode !== 'source' || !c) return;
+    e.preventDefault();
+    moveCamera(c, 'dolly', 0, e.deltaY);
+  }, { passive: false });
+
+  // ---- tools, buttons, keys -------------------------------------------------------------------
+  function setTool(tool) {
+    S.tool = tool;
+    for (const b of document.querySelectorAll('#tools button')) b.classList.toggle('on', b.dataset.tool === tool);
+  }
+  for (const b of document.querySelectorAll('#tools button')) b.addEventListener('click', () => setTool(b.dataset.tool));
+  $('undo').addEventListener('click', () => send({ type: 'undo' }));
+  $('redo').addEventListener('click', () => send({ type: 'redo' }));
+  $('seamless').addEventListener('change', () => send({ type: 'settings', seamless: $('seamless').checked }));
+  $('frame').addEventListener('change', () => {
+    const f = parseInt($('frame').value, 10);
+    if (Number.isFinite(f) && f >= 0) send({ type: 'frame', frame: f });
+  });
+  $('save').addEventListener('click', () => { note('saving…'); send({ type: 'save' }); });
+  $('render-final').addEventListener('click', () => {
+    const w = parseInt($('final-w').value, 10), h = parseInt($('final-h').value, 10), spp = parseInt($('final-spp').value, 10);
+    if (!(w > 0 && h > 0 && spp > 0)) { note('render final: size and spp must be positive whole numbers', true); return; }
+    $('final-progress').value = 0;
+    $('render-final').disabled = true;
+    $('cancel-final').disabled = false;
+    S.finalId = send({ type: 'render_final', res: [w, h], spp });
+  });
+  $('cancel-final').addEventListener('click', () => send({ type: 'cancel_final' }));
+  document.addEventListener('keydown', (e) => {
+    if (e.target.tagName === 'INPUT') return;
+    const k = e.key.toLowerCase();
+    if (e.ctrlKey || e.metaKey) {
+      if (k === 'z') send({ type: e.shiftKey ? 'redo' : 'undo' });
+      else if (k === 'y') send({ type: 'redo' });
+      else if (k === 'x') cut();
+      else if (k === 'c') copySelection();
+      else if (k === 'v') paste();
+      else return;
+    } else if (k === 'delete' || k === 'backspace') {
+      if (S.selection) placePatch(S.selection, S.selection, null, 0, 0);
+    } else if (k === 'escape') { S.selection = null; schedule(); }
+    else if ({ b: 1, e: 1, r: 1, s: 1 }[k]) setTool({ b: 'brush', e: 'eraser', r: 'region', s: 'select' }[k]);
+    else if (k >= '1' && k <= '9' && camera(Number(k))) selectCamera(Number(k));
+    else return;
+    e.preventDefault();
+  });
+
+  // ---- helpers ------------------------------------------------------------------------------------
+  function note(text, error = false) {
+    const m = $('message');
+    m.textContent = text;
+    m.classList.toggle('error', error);
+  }
+  setTool('brush');
+  for (const b of document.querySelectorAll('#views button')) b.classList.toggle('on', b.dataset.view === 'final');
+  connect();
+})();

@@ -1,0 +1,71 @@
+//! The studio (`mcctrace studio`, docs/studio.md): a local web page to paint a multicamera
+//! collage and watch its rerender refine. An axum server on loopback serves the embedded page
+//! and one WebSocket per tab; the engine ([`engine`]) keeps the session and streams pictures
+//! made by the same library code as the batch commands (`tracer::job`, `mcc::job`, the
+//! remapper); saves write a project folder the batch commands read ([`project`]).
+#![warn(missing_docs)]
+
+pub mod camera;
+#[cfg(feature = "client")]
+pub mod client;
+pub mod engine;
+pub mod error;
+pub mod maps;
+pub mod project;
+pub mod protocol;
+pub mod server;
+pub mod session;
+pub mod source;
+
+pub use engine::EngineSettings;
+pub use error::{Result, StudioError};
+pub use server::{Running, serve};
+
+use std::net::{IpAddr, Ipv4Addr};
+use std::path::PathBuf;
+
+/// What `mcctrace studio` asks for.
+#[derive(Clone, Debug)]
+pub struct Config {
+    /// The scene file; `None` opens the project in [`Config::project`].
+    pub scene: Option<PathBuf>,
+    /// The project folder: saves go there; without a scene it is opened.
+    pub project: PathBuf,
+    /// Cameras to start with, by name (all the scene's when empty).
+    pub cameras: Vec<String>,
+    /// Collage width and height.
+    pub res: [u32; 2],
+    /// The first key's frame.
+    pub frame: u32,
+    /// An existing collage (a tagged image or layered file, e.g. cut in an editor) to start from.
+    pub collage: Option<PathBuf>,
+    /// The address to listen on (loopback unless asked otherwise).
+    pub listen: IpAddr,
+    /// The port (0: any free one).
+    pub port: u16,
+    /// How much the engine renders.
+    pub engine: EngineSettings,
+    /// The URL's token (`None`: a random one; tests fix it).
+    pub token: Option<String>,
+}
+
+impl Config {
+    /// The default resolution of a collage.
+    pub const DEFAULT_RES: [u32; 2] = [480, 270];
+
+    /// A new session on `scene`, saving to `project`, with the defaults.
+    pub fn new(scene: Option<PathBuf>, project: PathBuf) -> Self {
+        Self {
+            scene,
+            project,
+            cameras: Vec::new(),
+            res: Self::DEFAULT_RES,
+            frame: 0,
+            collage: None,
+            listen: IpAddr::V4(Ipv4Addr::LOCALHOST),
+            port: 0,
+            engine: EngineSettings::default(),
+            token: None,
+        }
+    }
+}

@@ -1,0 +1,72 @@
+//! What each message does (docs/studio.md, "Protocol"): edits go through the session under its
+//! lock, each one checked whole first (a malformed message changes nothing); the changed state
+//! goes to every tab and wakes the engine.
+
+use crate::engine::Shared;
+use crate::error::Result;
+use crate::protocol::{Envelope, Layer, Outbound, Request};
+use serde_json::json;
+use std::sync::Arc;
+
+/// Runs one message; returns the replies for the tab that sent it (changes are broadcast).
+pub fn handle(shared: &Arc<Shared>, envelope: Envelope) -> Vec<Outbound> {
+    let id = envelope.id;
+    match run(shared, id, envelope.request) {
+        Ok(replies) => replies,
+        Err(e) => vec![Outbound::error(id, e.to_string())],
+    }
+}
+
+fn run(shared: &Arc<Shared>, id: Option<u64>, request: Request) -> Result<Vec<Outbound>> {
+    let mut session = shared.session();
+    let mut layers: Vec<Layer> = Vec::new();
+    match request {
+        Request::Hello => {
+            let mut replies =
+                vec![session.state(id), session.labels(Layer::Labels), session.labels(Layer::Regions)];
+            drop(session);
+            replies.extend(shared.latest());
+            return Ok(replies);
+        }
+        Request::Paint { layer, rect, data } => {
+            if session.paint(layer, rect, &data)? {
+                // Every tab sees the stroke (docs/studio.md, "Protocol").
+                layers.push(layer);
+            }
+        }
+        Request::Undo | Request::Redo => {
+            let redo = matches!(request, Request::Redo);
+            layers.extend(session.undo(redo).flatten());
+        }
+        Request::CameraEdit(edit) => session.edit_camera(&edit)?,
+        Request::CameraDuplicate { index } => {
+            session.duplicate_camera(index)?;
+        }
+        Request::View { mode, camera } => session.set_view(mode, camera)?,
+        Request::Settings { seamless } => session.set_seamless(seamless),
+        Request::Frame { frame } => {
+            session.switch_frame(frame, || shared.source.cameras(frame))?;
+            layers.extend([Layer::Labels, Layer::Regions]);
+        }
+        Request::Save => {
+            drop(session);
+            let dir = crate::project::save(shared)?;
+            return Ok(vec![Outbound::json(json!({"type": "saved", "id": id, "dir": dir}))]);
+        }
+        Request::RenderFinal { res, spp } => {
+            drop(session);
+            crate::project::start_final(shared, id, res, spp)?;
+            return Ok(Vec::new());
+        }
+        Request::CancelFinal => {
+            shared.final_cancel.store(true, std::sync::atomic::Ordering::SeqCst);
+            return Ok(Vec::new());
+        }
+    }
+    shared.changed(&session);
+    for layer in layers {
+        shared.broadcast(session.labels(layer));
+    }
+    shared.broadcast(session.state(id));
+    Ok(Vec::new())
+}

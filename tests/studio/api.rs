@@ -1,0 +1,149 @@
+//! Editing over the socket: paint, undo and redo, camera edits, the preview's progress, and a
+//! malformed message changing nothing.
+
+use super::{Client, Msg, RES, SETTINGS, decode, scratch, start, two_strokes};
+use serde_json::json;
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn paint_undo_redo_and_camera_edits() {
+    let dir = scratch("api-edit");
+    let running = start(&dir);
+    let mut client = Client::connect(&running).await;
+    let state = client.hello().await;
+    assert_eq!(state["res"], json!(RES));
+    assert_eq!(state["can_undo"], false);
+    let after = two_strokes(&mut client).await;
+    assert_eq!(after["can_undo"], true);
+    assert_eq!(after["cameras"][1]["fov_deg"], 35.0);
+    assert_eq!(after["cameras"][1]["name"], "cornell copy");
+    let [w, h] = RES;
+    let third = w / 3;
+    let painted: Vec<u8> = (0..w * h)
+        .map(|p| match p % w {
+            x if x < third => 1,
+            x if x >= w - third => 2,
+            _ => 0,
+        })
+        .collect();
+    // A second tab sees the maps as painted.
+    let mut other = Client::connect(&running).await;
+    other.send(json!({"type": "hello"})).await;
+    let labels = other.until(|m| m.kind() == "labels").await;
+    let Msg::Json(labels) = labels else { unreachable!() };
+    assert_eq!(labels["layer"], "labels");
+    assert_eq!(decode(&labels["data"]), painted);
+
+    // Undo takes the second stroke away, redo brings it back; each says so with the whole map.
+    let id = client.send(json!({"type": "undo"})).await;
+    let Msg::Json(labels) = client.until(|m| m.kind() == "labels").await else { unreachable!() };
+    let undone: Vec<u8> = painted.iter().map(|&l| if l == 2 { 0 } else { l }).collect();
+    assert_eq!(decode(&labels["data"]), undone);
+    let Msg::Json(state) = client.until(|m| matches!(m, Msg::Json(v) if v["id"] == json!(id))).await else {
+        unreachable!()
+    };
+    assert_eq!((state["can_undo"].clone(), state["can_redo"].clone()), (json!(true), json!(true)));
+    client.send(json!({"type": "redo"})).await;
+    let Msg::Json(labels) = client.until(|m| m.kind() == "labels").await else { unreachable!() };
+    assert_eq!(decode(&labels["data"]), painted);
+
+    // A malformed paint is refused with its id and changes nothing.
+    let seq = client.hello().await["seq"].clone();
+    for bad in [
+        json!({"type": "paint", "layer": "labels", "rect": [40, 0, 20, 1], "data": "AAAA"}),
+        json!({"type": "paint", "layer": "labels", "rect": [0, 0, 1, 1], "data": "Bw=="}),
+        json!({"type": "paint", "layer": "labels", "rect": [0, 0, 2, 1], "data": "AQ=="}),
+        json!({"type": "paint", "layer": "labels", "rect": [0, 0, 1, 1], "data": "!!"}),
+        json!({"type": "camera_edit", "index": 9, "eye": [0, 0, 0], "target": [0, 0, -1], "up": [0, 1, 0], "fov_deg": 40}),
+        json!({"type": "camera_edit", "index": 1, "eye": [0, 0, 0], "target": [0, 0, 0], "up": [0, 1, 0], "fov_deg": 40}),
+        json!({"type": "view", "mode": "weights"}),
+        json!({"type": "fly"}),
+    ] {
+        let reply = client.request(bad.clone()).await;
+        assert_eq!(reply["type"], "error", "{bad} → {reply}");
+    }
+    client.send_text("{not json".into()).await;
+    let Msg::Json(reply) = client.until(|m| m.kind() == "error").await else { unreachable!() };
+    assert!(reply["message"].as_str().unwrap().contains("not JSON"), "{reply}");
+    let state = client.hello().await;
+    assert_eq!(state["seq"], seq, "refused messages changed the state");
+    let Msg::Json(labels) = client.until(|m| m.kind() == "labels").await else { unreachable!() };
+    assert_eq!(decode(&labels["data"]), painted);
+
+    // The preview arrives coarse first, then refines to the idle sample count.
+    let seq = state["seq"].as_u64().unwrap();
+    client.request(json!({"type": "settings", "seamless": true})).await;
+    let seq = seq + 1;
+    let (coarse, _) = client.preview(seq, 1).await;
+    assert_eq!((coarse["w"].clone(), coarse["h"].clone()), (json!(RES[0]), json!(RES[1])));
+    let (last, png) = client.preview(seq, SETTINGS.preview_spp).await;
+    assert_eq!(last["kind"], "preview");
+    assert!(png.starts_with(b"\x89PNG"));
+
+    // The debug views come from the same remap.
+    client.request(json!({"type": "view", "mode": "dominant"})).await;
+    let Msg::Image(header, _) = client.until(|m| matches!(m, Msg::Image(h, _) if h["kind"] == "view")).await
+    else {
+        unreachable!()
+    };
+    assert_eq!(header["w"], json!(RES[0]));
+    drop(running);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Camera edits are undo steps in the order made, among the strokes; a second tab sees every
+/// stroke, undo and camera move of the first as it happens.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn camera_edits_undo_in_order_and_tabs_see_each_other() {
+    let dir = scratch("api-undo-tabs");
+    let running = start(&dir);
+    let mut client = Client::connect(&running).await;
+    let mut other = Client::connect(&running).await;
+    other.hello().await;
+    let before = client.hello().await;
+    let after = two_strokes(&mut client).await;
+    let moved = after["cameras"][1].clone();
+    assert_ne!(moved["eye"], before["cameras"][0]["eye"], "two_strokes moves the copy");
+
+    // The other tab got the second stroke's map without asking.
+    let [w, h] = RES;
+    let third = w / 3;
+    let painted: Vec<u8> = (0..w * h)
+        .map(|p| match p % w {
+            x if x < third => 1,
+            x if x >= w - third => 2,
+            _ => 0,
+        })
+        .collect();
+    let seen = other
+        .until(|m| matches!(m, Msg::Json(v) if v["type"] == "labels" && decode(&v["data"]) == painted))
+        .await;
+    assert_eq!(seen.kind(), "labels");
+
+    // Undo: the second stroke, the first, then the camera edit (the copy goes back to the
+    // duplicate's pose), each seen by the other tab.
+    for _ in 0..2 {
+        client.request(json!({"type": "undo"})).await;
+    }
+    let state = client.request(json!({"type": "undo"})).await;
+    assert_eq!(state["cameras"][1]["eye"], before["cameras"][0]["eye"], "{state}");
+    assert_eq!(state["cameras"][1]["fov_deg"], before["cameras"][0]["fov_deg"]);
+    let seq = state["seq"].clone();
+    let Msg::Json(seen) =
+        other.until(|m| matches!(m, Msg::Json(v) if v["type"] == "state" && v["seq"] == seq)).await
+    else {
+        unreachable!()
+    };
+    assert_eq!(seen["cameras"][1]["eye"], before["cameras"][0]["eye"]);
+    assert_eq!(state["can_undo"], false, "duplicating is not an edit of a pose: nothing is left");
+    // Redo brings the edit back, then the strokes.
+    let state = client.request(json!({"type": "redo"})).await;
+    assert_eq!(state["cameras"][1], moved);
+    client.request(json!({"type": "redo"})).await;
+    client.send(json!({"type": "redo"})).await;
+    let seen = other
+        .until(|m| matches!(m, Msg::Json(v) if v["type"] == "labels" && decode(&v["data"]) == painted))
+        .await;
+    assert_eq!(seen.kind(), "labels");
+    drop(running);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

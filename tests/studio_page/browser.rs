@@ -1,0 +1,147 @@
+//! Headless Chromium driven through chromedriver (WebDriver) for the studio page's test: the
+//! flags Chromium needs as root on a closed network, real pointer strokes, page scripts, and
+//! waiting for the page's state.
+
+use fantoccini::actions::{InputSource, MOUSE_BUTTON_LEFT, MouseActions, PointerAction};
+use fantoccini::{Client, ClientBuilder, Locator};
+use hyper_util::client::legacy::connect::HttpConnector;
+use serde_json::{Value, json};
+use std::net::TcpListener;
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// A free loopback port (bound, read and released; a race with another process is unlikely).
+pub fn free_port() -> u16 {
+    TcpListener::bind("127.0.0.1:0").expect("bind a loopback port").local_addr().unwrap().port()
+}
+
+/// A chromedriver process and one headless Chromium session through it; both end on drop.
+pub struct Browser {
+    /// The WebDriver session.
+    pub client: Client,
+    driver: Child,
+}
+
+impl Browser {
+    /// Starts chromedriver on a free port and a headless Chromium with a fresh profile in
+    /// `profile`, its window `width`×`height`.
+    pub async fn start(chromium: &Path, chromedriver: &Path, profile: &Path, size: (u32, u32)) -> Self {
+        let port = free_port();
+        let driver = Command::new(chromedriver)
+            .arg(format!("--port={port}"))
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("start chromedriver");
+        // Without the networking flags Chromium keeps calling home on a closed network and
+        // hangs; as root it needs --no-sandbox.
+        let args = [
+            "--headless".to_string(),
+            "--no-sandbox".into(),
+            "--disable-gpu".into(),
+            "--disable-quic".into(),
+            "--no-first-run".into(),
+            "--disable-background-networking".into(),
+            "--disable-component-update".into(),
+            "--disable-sync".into(),
+            "--disable-dev-shm-usage".into(),
+            format!("--user-data-dir={}", profile.display()),
+            format!("--window-size={},{}", size.0, size.1),
+        ];
+        let mut caps = serde_json::Map::new();
+        caps.insert("goog:chromeOptions".into(), json!({ "binary": chromium, "args": args }));
+        let url = format!("http://127.0.0.1:{port}");
+        let deadline = Instant::now() + Duration::from_secs(60);
+        let client = loop {
+            let attempt =
+                ClientBuilder::new(HttpConnector::new()).capabilities(caps.clone()).connect(&url).await;
+            match attempt {
+                Ok(client) => break client,
+                Err(e) if Instant::now() > deadline => panic!("no WebDriver session from chromedriver: {e}"),
+                Err(_) => tokio::time::sleep(Duration::from_millis(200)).await,
+            }
+        };
+        Self { client, driver }
+    }
+
+    /// Runs `script` (a function body; `arguments` holds `args`) in the page.
+    pub async fn js(&self, script: &str, args: Vec<Value>) -> Value {
+        self.client
+            .execute(script, args)
+            .await
+            .unwrap_or_else(|e| panic!("page script failed: {e}\n{script}"))
+    }
+
+    /// Polls `script` until it returns something other than null or false, for up to `limit`.
+    pub async fn wait_for(&self, what: &str, script: &str, limit: Duration) -> Value {
+        let deadline = Instant::now() + limit;
+        loop {
+            let v = self.js(script, vec![]).await;
+            if !(v.is_null() || v == Value::Bool(false)) {
+                return v;
+            }
+            if Instant::now() > deadline {
+                let status = self.js("return [document.getElementById('status').innerText, window.studio && window.studio.errors]", vec![]).await;
+                panic!("timed out after {limit:?} waiting for {what}; page status and errors: {status}");
+            }
+            tokio::time::sleep(Duration::from_millis(50)).await;
+        }
+    }
+
+    /// Clicks the element `css` selects.
+    pub async fn click(&self, css: &str) {
+        let element = self.client.find(Locator::Css(css)).await.unwrap_or_else(|e| panic!("no `{css}`: {e}"));
+        element.click().await.unwrap_or_else(|e| panic!("click `{css}`: {e}"));
+    }
+
+    /// Types `text` into the input `css` selects, replacing its value, and fires its change event.
+    pub async fn type_into(&self, css: &str, text: &str) {
+        let element = self.client.find(Locator::Css(css)).await.unwrap_or_else(|e| panic!("no `{css}`: {e}"));
+        element.clear().await.expect("clear the input");
+        element.send_keys(text).await.expect("type into the input");
+        self.js(
+            "arguments[0].dispatchEvent(new Event('change', {bubbles: true}))",
+            vec![serde_json::to_value(&element).unwrap()],
+        )
+        .await;
+    }
+
+    /// Drags the mouse with the left button through `points` (viewport pixels), as a user would:
+    /// press at the first, move through the rest, release at the last.
+    pub async fn drag(&self, points: &[(f64, f64)]) {
+        let (x0, y0) = points[0];
+        let mut mouse = MouseActions::new("mouse".into())
+            .then(PointerAction::MoveTo { duration: None, x: x0.round(), y: y0.round() })
+            .then(PointerAction::Down { button: MOUSE_BUTTON_LEFT });
+        for &(x, y) in &points[1..] {
+            mouse = mouse.then(PointerAction::MoveTo {
+                duration: Some(Duration::from_millis(30)),
+                x: x.round(),
+                y: y.round(),
+            });
+        }
+        mouse = mouse.then(PointerAction::Up { button: MOUSE_BUTTON_LEFT });
+        self.client.perform_actions(mouse).await.expect("perform the pointer actions");
+        self.client.release_actions().await.expect("release the pointer");
+    }
+
+    /// A PNG screenshot of the page.
+    pub async fn screenshot(&self) -> Vec<u8> {
+        self.client.screenshot().await.expect("take a screenshot")
+    }
+}
+
+impl Browser {
+    /// Ends the WebDriver session (Chromium quits) before chromedriver is stopped.
+    pub async fn quit(self) {
+        let _ = self.client.clone().close().await;
+    }
+}
+
+impl Drop for Browser {
+    fn drop(&mut self) {
+        let _ = self.driver.kill();
+        let _ = self.driver.wait();
+    }
+}
