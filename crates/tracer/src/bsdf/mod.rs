@@ -2,10 +2,12 @@
 //! `KHR_materials_specular`'s dielectric F0 and weight:
 //!
 //! ```text
-//! f = (1 − m)·[(1 − s·max(F_d))·ρ/π + s·F_d·S] + m·F_m·S,     S = D·G2 / (4 |n·wo| |n·wi|)
+//! f = (1 − m)·[(1 − s·max(A_d(wo)))·ρ/π + s·F_d·S] + m·F_m·S,     S = D·G2 / (4 |n·wo| |n·wi|)
 //! ```
 //! with F_d and F_m Schlick's Fresnel at the half vector (F0 = min(0.04·specular colour, 1) for
-//! the dielectric, the base colour for the metal). Sampling picks the diffuse lobe (cosine) or
+//! the dielectric, the base colour for the metal), and A_d(wo) the compensated dielectric lobe's
+//! directional albedo: the diffuse base loses what the layer above it reflects, as in Blender's
+//! Principled BSDF, rather than glTF's per-direction `fresnel_mix` (docs/design.md §3.10). Sampling picks the diffuse lobe (cosine) or
 //! the specular lobe (GGX visible normals) in proportion to an estimate of their albedo for wo,
 //! and reports the mixture density, so both lobes' values count at every sampled direction.
 //!
@@ -89,12 +91,10 @@ pub struct Bsdf {
     ng: Vec3,
     /// wo in the shading frame.
     wo: Vec3,
-    /// (1 − m) · base colour / π.
+    /// (1 − m) · base colour / π, times what the dielectric layer leaves the base for this wo.
     diffuse: Vec3,
     /// (1 − m) · specular weight.
     dielectric_weight: f32,
-    /// The specular weight s itself (it scales the diffuse energy loss).
-    specular: f32,
     f0_dielectric: Vec3,
     metal_weight: f32,
     f0_metal: Vec3,
@@ -157,13 +157,15 @@ impl Bsdf {
             let w_diff = (1.0 - m) * (1.0 - specular * fd) * base.element_sum() / 3.0;
             if w_spec + w_diff > 0.0 { (w_spec / (w_spec + w_diff)).clamp(0.0, 1.0) } else { 0.0 }
         };
-        let (ms_dielectric, ms_metal) = if p_specular > 0.0 {
-            (
-                compensation::factor(f0_dielectric, wo_local.z, p.roughness),
-                compensation::factor(base, wo_local.z, p.roughness),
-            )
+        let (ms_dielectric, ms_metal, diffuse) = if p_specular > 0.0 {
+            let (ms_dielectric, layer_albedo) =
+                compensation::dielectric(f0_dielectric, wo_local.z, p.roughness);
+            // The base beneath the dielectric layer gets what the layer does not reflect for this
+            // wo, as in Blender's Principled BSDF (docs/design.md §3.10).
+            let beneath = (1.0 - specular * layer_albedo.max_element()).max(0.0);
+            (ms_dielectric, compensation::factor(base, wo_local.z, p.roughness), diffuse * beneath)
         } else {
-            (Vec3::ONE, Vec3::ONE)
+            (Vec3::ONE, Vec3::ONE, diffuse)
         };
         Self {
             frame,
@@ -171,7 +173,6 @@ impl Bsdf {
             wo: wo_local,
             diffuse,
             dielectric_weight,
-            specular,
             f0_dielectric,
             metal_weight,
             f0_metal: base,
@@ -195,7 +196,6 @@ impl Bsdf {
             // (1 − 0)·base·(1/π), as `with_frame` has it: 1·base is base exactly.
             diffuse: base_color * FRAC_1_PI,
             dielectric_weight: 0.0,
-            specular: 0.0,
             f0_dielectric: Vec3::ZERO,
             metal_weight: 0.0,
             f0_metal: base_color,
@@ -259,7 +259,7 @@ impl Bsdf {
         let fd = schlick(self.f0_dielectric, wo_h);
         let fm = schlick(self.f0_metal, wo_h);
         let s = self.ggx.d(h) * self.ggx.g2(wo, wi) / (4.0 * wo.z * wi.z);
-        let f = self.diffuse * (1.0 - self.specular * fd.max_element())
+        let f = self.diffuse
             + (self.dielectric_weight * fd * self.ms_dielectric + self.metal_weight * fm * self.ms_metal) * s;
         let pdf =
             (1.0 - self.p_specular) * lambert::pdf(wi) + self.p_specular * self.ggx.pdf_reflection(wo, h);
