@@ -26,6 +26,19 @@ import bpy
 import numpy as np
 
 
+def math_node(tree, operation, a=None, b=None):
+    """A Math node of `tree` computing `operation`; each input is a number, a socket to link
+    from, or None (left as it is)."""
+    node = tree.nodes.new("ShaderNodeMath")
+    node.operation = operation
+    for socket, value in zip(node.inputs, (a, b)):
+        if isinstance(value, (int, float)):
+            socket.default_value = value
+        elif value is not None:
+            tree.links.new(value, socket)
+    return node
+
+
 def one_sided_emission(gltf_path):
     """Blender's importer drops `doubleSided: false`, so Cycles would emit from both faces of an
     emissive surface that glTF (and mcctrace, docs/design.md §3.9) lights from the front only.
@@ -48,12 +61,8 @@ def one_sided_emission(gltf_path):
             raise SystemExit(f"{gltf_path}: material {mat.name!r} has no Principled BSDF")
         strength = bsdf.inputs["Emission Strength"]
         geometry = nodes.new("ShaderNodeNewGeometry")
-        front = nodes.new("ShaderNodeMath")
-        front.operation = "SUBTRACT"
-        front.inputs[0].default_value = 1.0
-        links.new(geometry.outputs["Backfacing"], front.inputs[1])
-        scale = nodes.new("ShaderNodeMath")
-        scale.operation = "MULTIPLY"
+        front = math_node(mat.node_tree, "SUBTRACT", 1.0, geometry.outputs["Backfacing"])
+        scale = math_node(mat.node_tree, "MULTIPLY")
         if strength.is_linked:
             links.new(strength.links[0].from_socket, scale.inputs[0])
         else:

@@ -83,14 +83,8 @@ def material(name, base=(0.8, 0.8, 0.8), metallic=0.0, roughness=0.5, specular=0
         if alpha_texture is not None:
             # glTF alphaMode MASK, cutoff 0.5, in the form Blender's exporter recognises:
             # alpha = 1 − (a < 0.5).
-            less = nodes.new("ShaderNodeMath")
-            less.operation = "LESS_THAN"
-            less.inputs[1].default_value = 0.5
-            links.new(t.outputs["Alpha"], less.inputs[0])
-            one_minus = nodes.new("ShaderNodeMath")
-            one_minus.operation = "SUBTRACT"
-            one_minus.inputs[0].default_value = 1.0
-            links.new(less.outputs[0], one_minus.inputs[1])
+            less = peer.math_node(m.node_tree, "LESS_THAN", t.outputs["Alpha"], 0.5)
+            one_minus = peer.math_node(m.node_tree, "SUBTRACT", 1.0, less.outputs[0])
             links.new(one_minus.outputs[0], p.inputs["Alpha"])
     if normal_texture is not None:
         t = nodes.new("ShaderNodeTexImage")
