@@ -4,10 +4,12 @@
 //! ```text
 //! f = (1 − m)·[(1 − s·max(A_d(wo)))·ρ/π + s·F_d·S] + m·F_m·S,     S = D·G2 / (4 |n·wo| |n·wi|)
 //! ```
-//! with F_d and F_m Schlick's Fresnel at the half vector (F0 = min(0.04·specular colour, 1) for
-//! the dielectric, the base colour for the metal), and A_d(wo) the compensated dielectric lobe's
+//! with F_m Schlick's Fresnel at the half vector (F0 the base colour), F_d the dielectric layer's
+//! as Blender has it (`fresnel.rs`: the exact Fresnel of the material's η remapped to start at
+//! F0 = min(0.04·specular colour, 1)), and A_d(wo) the compensated dielectric lobe's
 //! directional albedo: the diffuse base loses what the layer above it reflects, as in Blender's
-//! Principled BSDF, rather than glTF's per-direction `fresnel_mix` (docs/design.md §3.10). Sampling picks the diffuse lobe (cosine) or
+//! Principled BSDF, rather than glTF's per-direction `fresnel_mix` (docs/design.md §3.10).
+//! Sampling picks the diffuse lobe (cosine) or
 //! the specular lobe (GGX visible normals) in proportion to an estimate of their albedo for wo,
 //! and reports the mixture density, so both lobes' values count at every sampled direction.
 //!
@@ -21,11 +23,13 @@
 
 pub mod compensation;
 pub mod dielectric;
+pub mod fresnel;
 pub mod ggx;
 pub mod lambert;
 
 use crate::material::Material;
 use crate::sampling::Frame;
+use fresnel::LayerFresnel;
 use ggx::Ggx;
 use glam::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
@@ -56,6 +60,8 @@ pub struct BsdfParams {
     pub specular: f32,
     /// Dielectric specular tint.
     pub specular_color: Vec3,
+    /// Index of refraction that shapes the dielectric layer's Fresnel curve.
+    pub ior: f32,
 }
 
 impl BsdfParams {
@@ -79,6 +85,7 @@ impl BsdfParams {
                 0.0
             },
             specular_color: material.specular_color,
+            ior: material.ior,
         }
     }
 }
@@ -95,7 +102,7 @@ pub struct Bsdf {
     diffuse: Vec3,
     /// (1 − m) · specular weight.
     dielectric_weight: f32,
-    f0_dielectric: Vec3,
+    layer: LayerFresnel,
     metal_weight: f32,
     f0_metal: Vec3,
     /// Multiple-scattering compensation factors of the dielectric and metal lobes for this wo.
@@ -142,7 +149,7 @@ impl Bsdf {
         let m = p.metallic;
         let base = p.base_color;
         let specular = p.specular;
-        let f0_dielectric = (0.04 * p.specular_color).min(Vec3::ONE);
+        let layer = LayerFresnel::new(0.04 * p.specular_color, p.ior);
         let ggx = Ggx::from_roughness(p.roughness);
 
         let diffuse = (1.0 - m) * base * FRAC_1_PI;
@@ -151,15 +158,14 @@ impl Bsdf {
         let p_specular = if dielectric_weight == 0.0 && metal_weight == 0.0 {
             0.0
         } else {
-            let fd = schlick(f0_dielectric, wo_local.z).max_element();
+            let fd = layer.eval(wo_local.z).max_element();
             let fm = schlick(base, wo_local.z).element_sum() / 3.0;
             let w_spec = dielectric_weight * fd + metal_weight * fm;
             let w_diff = (1.0 - m) * (1.0 - specular * fd) * base.element_sum() / 3.0;
             if w_spec + w_diff > 0.0 { (w_spec / (w_spec + w_diff)).clamp(0.0, 1.0) } else { 0.0 }
         };
         let (ms_dielectric, ms_metal, diffuse) = if p_specular > 0.0 {
-            let (ms_dielectric, layer_albedo) =
-                compensation::dielectric(f0_dielectric, wo_local.z, p.roughness);
+            let (ms_dielectric, layer_albedo) = compensation::dielectric(&layer, wo_local.z, p.roughness);
             // The base beneath the dielectric layer gets what the layer does not reflect for this
             // wo, as in Blender's Principled BSDF (docs/design.md §3.10).
             let beneath = (1.0 - specular * layer_albedo.max_element()).max(0.0);
@@ -173,7 +179,7 @@ impl Bsdf {
             wo: wo_local,
             diffuse,
             dielectric_weight,
-            f0_dielectric,
+            layer,
             metal_weight,
             f0_metal: base,
             ms_dielectric,
@@ -196,7 +202,7 @@ impl Bsdf {
             // (1 − 0)·base·(1/π), as `with_frame` has it: 1·base is base exactly.
             diffuse: base_color * FRAC_1_PI,
             dielectric_weight: 0.0,
-            f0_dielectric: Vec3::ZERO,
+            layer: LayerFresnel::new(Vec3::ZERO, 1.5),
             metal_weight: 0.0,
             f0_metal: base_color,
             ms_dielectric: Vec3::ONE,
@@ -262,7 +268,7 @@ impl Bsdf {
         let wo = self.wo;
         let h = (wo + wi).normalize_or(Vec3::Z);
         let wo_h = wo.dot(h).max(0.0);
-        let fd = schlick(self.f0_dielectric, wo_h);
+        let fd = self.layer.eval(wo_h);
         let fm = schlick(self.f0_metal, wo_h);
         let s = self.ggx.d(h) * self.ggx.g2(wo, wi) / (4.0 * wo.z * wi.z);
         let f = self.diffuse
