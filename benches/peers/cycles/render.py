@@ -96,31 +96,35 @@ def import_scene(gltf_path, camera):
 def configure(scene, size, spp, depth, seed, threads):
     scene.render.engine = "CYCLES"
     c = scene.cycles
-    c.device = "CPU"
-    c.samples = spp
-    c.seed = seed
-    c.use_animated_seed = False
-    c.use_adaptive_sampling = False
-    c.use_denoising = False
-    c.sample_clamp_direct = 0.0
-    c.sample_clamp_indirect = 0.0
-    c.light_sampling_threshold = 0.0
-    c.blur_glossy = 0.0
-    c.caustics_reflective = True
-    c.caustics_refractive = True
-    c.use_guiding = False
     bounces = depth - 1
-    c.max_bounces = bounces
-    c.diffuse_bounces = bounces
-    c.glossy_bounces = bounces
-    c.transmission_bounces = bounces
-    c.volume_bounces = 0
-    # An alpha-masked hole is a transparent bounce in Cycles and no vertex in mcctrace.
-    c.transparent_max_bounces = 64
-    c.min_light_bounces = 0
-    c.min_transparent_bounces = 0
-    c.pixel_filter_type = "BOX"
-    c.filter_width = 1.0
+    settings = {
+        "device": "CPU",
+        "samples": spp,
+        "seed": seed,
+        "use_animated_seed": False,
+        "use_adaptive_sampling": False,
+        "use_denoising": False,
+        "sample_clamp_direct": 0.0,
+        "sample_clamp_indirect": 0.0,
+        "light_sampling_threshold": 0.0,
+        "blur_glossy": 0.0,
+        "caustics_reflective": True,
+        "caustics_refractive": True,
+        "use_guiding": False,
+        "max_bounces": bounces,
+        "diffuse_bounces": bounces,
+        "glossy_bounces": bounces,
+        "transmission_bounces": bounces,
+        "volume_bounces": 0,
+        # An alpha-masked hole is a transparent bounce in Cycles and no vertex in mcctrace.
+        "transparent_max_bounces": 64,
+        "min_light_bounces": 0,
+        "min_transparent_bounces": 0,
+        "pixel_filter_type": "BOX",
+        "filter_width": 1.0,
+    }
+    for name, value in settings.items():
+        setattr(c, name, value)
     scene.render.threads_mode = "FIXED"
     scene.render.threads = threads
     scene.render.resolution_x, scene.render.resolution_y = size
