@@ -11,6 +11,7 @@ mod animation;
 mod bad_inputs;
 mod common;
 mod cornell_reference;
+mod cycles_parity;
 mod determinism;
 mod farm;
 mod first_use;

@@ -1,6 +1,7 @@
-//! Image textures (glTF 2.0 §3.8; `KHR_texture_transform`): linear-RGBA texels looked up by
-//! texture coordinates with the sampler's wrap modes and filter. Colour textures are decoded
-//! from sRGB to linear once, at load, so lookups never convert.
+//! Image textures (glTF 2.0 §3.8; `KHR_texture_transform`): RGBA texels looked up by texture
+//! coordinates with the sampler's wrap modes and filter. Colour textures from 8- and 16-bit
+//! images keep their sRGB-encoded values and are decoded after filtering, as Cycles does
+//! (docs/design.md §3.10); float images and data textures hold linear values.
 //!
 //! Texture coordinates follow glTF: (0, 0) is the top-left corner of the image, u right, v down.
 
@@ -28,7 +29,7 @@ pub enum Filter {
     Linear,
 }
 
-/// A decoded image: linear RGBA, row-major from the top-left corner.
+/// A decoded image: RGBA, row-major from the top-left corner.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Texture {
     /// Where it came from, for messages.
@@ -37,8 +38,10 @@ pub struct Texture {
     pub width: u32,
     /// Height in texels.
     pub height: u32,
-    /// `width × height` linear RGBA texels.
+    /// `width × height` RGBA texels: linear, or with sRGB-encoded RGB when `srgb` is set.
     pub texels: Vec<Vec4>,
+    /// The texels' RGB is sRGB-encoded and decoded after filtering (alpha is always linear).
+    pub srgb: bool,
 }
 
 /// A material's use of a texture: which image, which coordinate set, how it is sampled.
@@ -77,7 +80,30 @@ impl Texture {
     /// A texture from linear texels (`width × height`, row-major from the top).
     pub fn new(name: impl Into<String>, width: u32, height: u32, texels: Vec<Vec4>) -> Self {
         debug_assert_eq!(texels.len(), width as usize * height as usize);
-        Self { name: name.into(), width, height, texels }
+        Self { name: name.into(), width, height, texels, srgb: false }
+    }
+
+    /// A texture from texels whose RGB is sRGB-encoded (in [0, 1]; alpha linear): lookups
+    /// filter the encoded values and decode the result.
+    pub fn srgb_encoded(name: impl Into<String>, width: u32, height: u32, texels: Vec<Vec4>) -> Self {
+        Self { srgb: true, ..Self::new(name, width, height, texels) }
+    }
+
+    /// Texel `i` (row-major) as a linear value, decoded if stored encoded.
+    pub fn linear_texel(&self, i: usize) -> Vec4 {
+        if self.srgb { srgb_to_linear(self.texels[i]) } else { self.texels[i] }
+    }
+
+    /// The same texture with linear texels (for uses that read texels directly, such as an
+    /// environment map's importance sampling).
+    pub fn into_linear(mut self) -> Self {
+        if self.srgb {
+            for t in &mut self.texels {
+                *t = srgb_to_linear(*t);
+            }
+            self.srgb = false;
+        }
+        self
     }
 
     #[inline]
@@ -87,9 +113,16 @@ impl Texture {
         self.texels[y * self.width as usize + x]
     }
 
-    /// The value at texture coordinates `uv`.
+    /// The linear value at texture coordinates `uv`.
     #[inline]
     pub fn sample(&self, uv: Vec2, wrap: [Wrap; 2], filter: Filter) -> Vec4 {
+        let v = self.filtered(uv, wrap, filter);
+        if self.srgb { srgb_to_linear(v) } else { v }
+    }
+
+    /// The texels' filtered value at `uv`, still encoded as stored.
+    #[inline]
+    fn filtered(&self, uv: Vec2, wrap: [Wrap; 2], filter: Filter) -> Vec4 {
         if self.texels.is_empty() {
             return Vec4::ZERO;
         }
@@ -111,6 +144,17 @@ impl Texture {
             }
         }
     }
+}
+
+/// The sRGB EOTF on RGB, alpha unchanged. Applied after filtering, not to each texel at load:
+/// Cycles keeps 8- and 16-bit sRGB images encoded and decodes the interpolated value, and a
+/// blend of encoded values decodes darker than the blend of decoded ones (the curve is convex),
+/// which shifted Blender scenes' colours by up to 14 % on checker textures (docs/design.md §3.10).
+#[inline]
+fn srgb_to_linear(v: Vec4) -> Vec4 {
+    let eotf =
+        |s: f32| if s <= 0.04045 { s * (1.0 / 12.92) } else { ((s + 0.055) * (1.0 / 1.055)).powf(2.4) };
+    Vec4::new(eotf(v.x), eotf(v.y), eotf(v.z), v.w)
 }
 
 #[inline]
@@ -170,6 +214,21 @@ mod tests {
             t.sample(Vec2::new(1.25, 0.25), [Wrap::MirroredRepeat; 2], Filter::Nearest),
             Vec4::new(0.0, 1.0, 0.0, 1.0)
         );
+    }
+
+    /// An sRGB texture filters encoded values and decodes the result: half-way between codes 0
+    /// and 255 is the EOTF of 0.5 (0.214), not 0.5; at texel centres it is each texel's EOTF.
+    #[test]
+    fn srgb_textures_decode_after_filtering() {
+        let t = Texture::srgb_encoded("s", 2, 1, vec![Vec4::new(0.0, 0.0, 0.0, 0.0), Vec4::ONE]);
+        let w = [Wrap::ClampToEdge; 2];
+        let mid = t.sample(Vec2::new(0.5, 0.5), w, Filter::Linear);
+        let want = ((0.5f64 + 0.055) / 1.055).powf(2.4) as f32;
+        assert!((mid.x - want).abs() < 1e-6 && (mid.w - 0.5).abs() < 1e-7, "{mid}");
+        let code = 60.0 / 255.0;
+        let t = Texture::srgb_encoded("s", 1, 1, vec![Vec4::new(code, code, code, 1.0)]);
+        let v = t.sample(Vec2::splat(0.5), w, Filter::Nearest);
+        assert!((v.x - crate::image_io::srgb8_to_linear(60)).abs() < 1e-6, "{v}");
     }
 
     /// The extension's GLSL, evaluated by hand: offset (0.5, 0), rotation π/2, scale 2 takes

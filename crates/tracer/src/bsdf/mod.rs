@@ -2,12 +2,19 @@
 //! `KHR_materials_specular`'s dielectric F0 and weight:
 //!
 //! ```text
-//! f = (1 − m)·[(1 − s·max(F_d))·ρ/π + s·F_d·S] + m·F_m·S,     S = D·G2 / (4 |n·wo| |n·wi|)
+//! f = (1 − m)·[(1 − s·max(A_d(wo)))·ρ/π + s·F_d·S] + m·F_m·S,     S = D·G2 / (4 |n·wo| |n·wi|)
 //! ```
-//! with F_d and F_m Schlick's Fresnel at the half vector (F0 = min(0.04·specular colour, 1) for
-//! the dielectric, the base colour for the metal). Sampling picks the diffuse lobe (cosine) or
+//! with F_m Schlick's Fresnel at the half vector (F0 the base colour), F_d the dielectric layer's
+//! as Blender has it (`fresnel.rs`: the exact Fresnel of the material's η remapped to start at
+//! F0 = min(0.04·specular colour, 1)), and A_d(wo) the compensated dielectric lobe's
+//! directional albedo: the diffuse base loses what the layer above it reflects, as in Blender's
+//! Principled BSDF, rather than glTF's per-direction `fresnel_mix` (docs/design.md §3.10).
+//! Sampling picks the diffuse lobe (cosine) or
 //! the specular lobe (GGX visible normals) in proportion to an estimate of their albedo for wo,
 //! and reports the mixture density, so both lobes' values count at every sampled direction.
+//!
+//! Where a shading normal would mirror wo below the surface, the specular lobes use a raised
+//! normal of their own (`raised_normal.rs`, Blender's bump-map correction).
 //!
 //! The GGX lobe carries Turquin's multiple-scattering compensation (`compensation.rs`), so a
 //! white metal reflects all light at every roughness, as Blender's energy-compensated GGX does.
@@ -19,11 +26,14 @@
 
 pub mod compensation;
 pub mod dielectric;
+pub mod fresnel;
 pub mod ggx;
 pub mod lambert;
+pub mod raised_normal;
 
 use crate::material::Material;
 use crate::sampling::Frame;
+use fresnel::LayerFresnel;
 use ggx::Ggx;
 use glam::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
@@ -54,6 +64,8 @@ pub struct BsdfParams {
     pub specular: f32,
     /// Dielectric specular tint.
     pub specular_color: Vec3,
+    /// Index of refraction that shapes the dielectric layer's Fresnel curve.
+    pub ior: f32,
 }
 
 impl BsdfParams {
@@ -77,6 +89,7 @@ impl BsdfParams {
                 0.0
             },
             specular_color: material.specular_color,
+            ior: material.ior,
         }
     }
 }
@@ -85,17 +98,21 @@ impl BsdfParams {
 #[derive(Clone, Copy, Debug)]
 pub struct Bsdf {
     frame: Frame,
+    /// The specular lobes' own frame and wo in it, where Blender's bump-map correction raises
+    /// their normal (`raised_normal.rs`); `None` when they share the shading frame.
+    raised: Option<(Frame, Vec3)>,
+    /// With a normal map, the smoothed normal without it (on ng's side) and the GGX α² of the
+    /// map's tilt, for Blender's bump shadowing of the diffuse lobe ([`Bsdf::with_bump`]).
+    bump: Option<(Vec3, f32)>,
     /// Geometric normal on wo's side.
     ng: Vec3,
     /// wo in the shading frame.
     wo: Vec3,
-    /// (1 − m) · base colour / π.
+    /// (1 − m) · base colour / π, times what the dielectric layer leaves the base for this wo.
     diffuse: Vec3,
     /// (1 − m) · specular weight.
     dielectric_weight: f32,
-    /// The specular weight s itself (it scales the diffuse energy loss).
-    specular: f32,
-    f0_dielectric: Vec3,
+    layer: LayerFresnel,
     metal_weight: f32,
     f0_metal: Vec3,
     /// Multiple-scattering compensation factors of the dielectric and metal lobes for this wo.
@@ -142,37 +159,51 @@ impl Bsdf {
         let m = p.metallic;
         let base = p.base_color;
         let specular = p.specular;
-        let f0_dielectric = (0.04 * p.specular_color).min(Vec3::ONE);
+        let layer = LayerFresnel::new(0.04 * p.specular_color, p.ior);
         let ggx = Ggx::from_roughness(p.roughness);
 
         let diffuse = (1.0 - m) * base * FRAC_1_PI;
         let dielectric_weight = (1.0 - m) * specular;
         let metal_weight = m;
+        let raised = if dielectric_weight == 0.0 && metal_weight == 0.0 {
+            None
+        } else {
+            raised_normal::raised(ng, wo, frame.z).map(|n| {
+                let f = Frame::from_z(n);
+                let mut wo_s = f.to_local(wo);
+                wo_s.z = wo_s.z.max(1e-6);
+                (f, wo_s)
+            })
+        };
+        // cos θo of the specular lobes, against their own normal.
+        let mu = raised.map_or(wo_local.z, |(_, w)| w.z);
         let p_specular = if dielectric_weight == 0.0 && metal_weight == 0.0 {
             0.0
         } else {
-            let fd = schlick(f0_dielectric, wo_local.z).max_element();
-            let fm = schlick(base, wo_local.z).element_sum() / 3.0;
+            let fd = layer.eval(mu).max_element();
+            let fm = schlick(base, mu).element_sum() / 3.0;
             let w_spec = dielectric_weight * fd + metal_weight * fm;
             let w_diff = (1.0 - m) * (1.0 - specular * fd) * base.element_sum() / 3.0;
             if w_spec + w_diff > 0.0 { (w_spec / (w_spec + w_diff)).clamp(0.0, 1.0) } else { 0.0 }
         };
-        let (ms_dielectric, ms_metal) = if p_specular > 0.0 {
-            (
-                compensation::factor(f0_dielectric, wo_local.z, p.roughness),
-                compensation::factor(base, wo_local.z, p.roughness),
-            )
+        let (ms_dielectric, ms_metal, diffuse) = if p_specular > 0.0 {
+            let (ms_dielectric, layer_albedo) = compensation::dielectric(&layer, mu, p.roughness);
+            // The base beneath the dielectric layer gets what the layer does not reflect for this
+            // wo, as in Blender's Principled BSDF (docs/design.md §3.10).
+            let beneath = (1.0 - specular * layer_albedo.max_element()).max(0.0);
+            (ms_dielectric, compensation::factor(base, mu, p.roughness), diffuse * beneath)
         } else {
-            (Vec3::ONE, Vec3::ONE)
+            (Vec3::ONE, Vec3::ONE, diffuse)
         };
         Self {
             frame,
+            raised,
+            bump: None,
             ng,
             wo: wo_local,
             diffuse,
             dielectric_weight,
-            specular,
-            f0_dielectric,
+            layer,
             metal_weight,
             f0_metal: base,
             ms_dielectric,
@@ -190,13 +221,14 @@ impl Bsdf {
         let (frame, ng, wo_local) = facing(shading, ng, wo);
         Self {
             frame,
+            raised: None,
+            bump: None,
             ng,
             wo: wo_local,
             // (1 − 0)·base·(1/π), as `with_frame` has it: 1·base is base exactly.
             diffuse: base_color * FRAC_1_PI,
             dielectric_weight: 0.0,
-            specular: 0.0,
-            f0_dielectric: Vec3::ZERO,
+            layer: LayerFresnel::new(Vec3::ZERO, 1.5),
             metal_weight: 0.0,
             f0_metal: base_color,
             ms_dielectric: Vec3::ONE,
@@ -204,6 +236,37 @@ impl Bsdf {
             ggx: Ggx::from_roughness(1.0),
             p_specular: 0.0,
         }
+    }
+
+    /// This BSDF of a normal-mapped surface whose smoothed normal without the map is `smooth`
+    /// (unit, either side): the diffuse lobe is shadowed as Blender does it (Cycles'
+    /// `bump_shadowing_term`, on by default: a GGX masking G1(α², |n_s·wi|) with α² = ⅛·tan²
+    /// of the map's tilt), and no light arrives from below the smoothed surface.
+    #[inline]
+    pub fn with_bump(mut self, smooth: Vec3) -> Self {
+        let ns = if smooth.dot(self.ng) < 0.0 { -smooth } else { smooth };
+        let cos_d = ns.dot(self.frame.z).abs();
+        if cos_d < 1.0 {
+            let tan2 = 1.0 / (cos_d * cos_d).max(1e-12) - 1.0;
+            self.bump = Some((ns, (0.125 * tan2).clamp(0.0, 1.0)));
+        }
+        self
+    }
+
+    /// f for `wi` (world) with the bump shadowing of [`Bsdf::with_bump`] applied.
+    #[inline(always)]
+    fn bump_shadowed(&self, wi: Vec3, f: Vec3) -> Vec3 {
+        let Some((ns, alpha2)) = self.bump else { return f };
+        let cos_i = ns.dot(wi);
+        if cos_i < 1e-6 {
+            return Vec3::ZERO;
+        }
+        if cos_i >= 1.0 {
+            return f;
+        }
+        let tan2 = 1.0 / (cos_i * cos_i) - 1.0;
+        let g1 = 2.0 / (1.0 + (1.0 + alpha2 * tan2).sqrt());
+        f - self.diffuse * (1.0 - g1)
     }
 
     /// True when the BSDF reflects nothing (e.g. a black emitter): the path can stop here.
@@ -244,11 +307,15 @@ impl Bsdf {
         if wi.dot(self.ng) <= 0.0 {
             return (Vec3::ZERO, 0.0);
         }
-        let wi = self.frame.to_local(wi);
-        if wi.z <= 0.0 {
+        let wl = self.frame.to_local(wi);
+        if wl.z <= 0.0 {
             return (Vec3::ZERO, 0.0);
         }
-        self.eval_local(wi)
+        let (f, pdf) = match self.raised {
+            None => self.eval_local(wl),
+            Some((f, wo)) => self.eval_raised(wl, f.to_local(wi), wo),
+        };
+        (self.bump_shadowed(wi, f), pdf)
     }
 
     // Always inlined: on the Lambert-only path LLVM then sees p_specular = 0 from
@@ -259,29 +326,53 @@ impl Bsdf {
         if self.p_specular == 0.0 {
             return (self.diffuse, lambert::pdf(wi));
         }
-        let wo = self.wo;
+        let (spec, spec_pdf) = self.specular(self.wo, wi);
+        let f = self.diffuse + spec;
+        let pdf = (1.0 - self.p_specular) * lambert::pdf(wi) + self.p_specular * spec_pdf;
+        (f, pdf)
+    }
+
+    /// The specular lobes' value and sampling density for `wo`, `wi` in their frame (wi.z > 0).
+    #[inline(always)]
+    fn specular(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
         let h = (wo + wi).normalize_or(Vec3::Z);
         let wo_h = wo.dot(h).max(0.0);
-        let fd = schlick(self.f0_dielectric, wo_h);
+        let fd = self.layer.eval(wo_h);
         let fm = schlick(self.f0_metal, wo_h);
         let s = self.ggx.d(h) * self.ggx.g2(wo, wi) / (4.0 * wo.z * wi.z);
-        let f = self.diffuse * (1.0 - self.specular * fd.max_element())
-            + (self.dielectric_weight * fd * self.ms_dielectric + self.metal_weight * fm * self.ms_metal) * s;
-        let pdf =
-            (1.0 - self.p_specular) * lambert::pdf(wi) + self.p_specular * self.ggx.pdf_reflection(wo, h);
-        (f, pdf)
+        let f =
+            (self.dielectric_weight * fd * self.ms_dielectric + self.metal_weight * fm * self.ms_metal) * s;
+        (f, self.ggx.pdf_reflection(wo, h))
+    }
+
+    /// [`Bsdf::eval_local`] with raised specular lobes: `wi` in the shading frame (z > 0), `wi_s`
+    /// and `wo_s` in theirs. The integrator weighs f by the shading normal's cosine, so the
+    /// specular value carries the ratio of their cosines; where wi is below the shading horizon
+    /// both lobes count nothing (Cycles' specular lobe still reflects a little there).
+    #[inline(never)]
+    fn eval_raised(&self, wi: Vec3, wi_s: Vec3, wo_s: Vec3) -> (Vec3, f32) {
+        let diffuse_pdf = (1.0 - self.p_specular) * lambert::pdf(wi);
+        if wi_s.z <= 0.0 {
+            return (self.diffuse, diffuse_pdf);
+        }
+        let (spec, spec_pdf) = self.specular(wo_s, wi_s);
+        (self.diffuse + spec * (wi_s.z / wi.z), diffuse_pdf + self.p_specular * spec_pdf)
     }
 
     /// Samples wi from `u` (2-D, stratified) and `u_lobe` (1-D lobe choice).
     #[inline(always)]
     pub fn sample(&self, u: Vec2, u_lobe: f32) -> Option<BsdfSample> {
         let wi = if u_lobe < self.p_specular {
-            let h = self.ggx.sample_visible_normal(self.wo, u);
-            let wi = 2.0 * self.wo.dot(h) * h - self.wo;
+            let wo = self.raised.map_or(self.wo, |(_, w)| w);
+            let h = self.ggx.sample_visible_normal(wo, u);
+            let wi = 2.0 * wo.dot(h) * h - wo;
             if wi.z <= 0.0 {
                 return None;
             }
-            wi
+            match self.raised {
+                None => wi,
+                Some((f, _)) => self.frame.to_local(f.from_local(wi)),
+            }
         } else {
             lambert::sample(u)
         };
@@ -292,11 +383,14 @@ impl Bsdf {
         if wi_world.dot(self.ng) <= 0.0 {
             return None;
         }
-        let (f, pdf) = self.eval_local(wi);
+        let (f, pdf) = match self.raised {
+            None => self.eval_local(wi),
+            Some((fr, wo)) => self.eval_raised(wi, fr.to_local(wi_world), wo),
+        };
         if pdf <= 0.0 || !pdf.is_finite() {
             return None;
         }
-        Some(BsdfSample { wi: wi_world.normalize(), f, pdf, cos: wi.z })
+        Some(BsdfSample { wi: wi_world.normalize(), f: self.bump_shadowed(wi_world, f), pdf, cos: wi.z })
     }
 }
 

@@ -47,10 +47,13 @@ impl Vertex<'_> {
             roughness: sp.roughness,
             ..BsdfParams::of(self.material)
         };
-        // The hit's shading frame, unless a normal map moved the normal.
-        let frame =
-            if self.material.textures.normal.is_some() { Frame::from_z(sp.normal) } else { si.shading };
-        Bsdf::with_frame(&params, frame, si.n_geom, self.wo)
+        // The hit's shading frame, unless a normal map moved the normal (then shadowed as Blender
+        // does, docs/design.md §3.10).
+        if self.material.textures.normal.is_some() {
+            Bsdf::with_frame(&params, Frame::from_z(sp.normal), si.n_geom, self.wo).with_bump(si.shading.z)
+        } else {
+            Bsdf::with_frame(&params, si.shading, si.n_geom, self.wo)
+        }
     }
 }
 

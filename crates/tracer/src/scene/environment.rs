@@ -39,7 +39,7 @@ impl EnvironmentMap {
         } else {
             let bytes = std::fs::read(path).map_err(|e| TracerError::io(path, e))?;
             let image = images::decode(&bytes).map_err(bad)?;
-            images::to_texture(name, &image, ColorSpace::Srgb)
+            images::to_texture(name, &image, ColorSpace::Srgb).into_linear()
         };
         if texture.width == 0 || texture.height == 0 || texture.texels.is_empty() {
             return Err(bad("the environment image is empty".to_owned()));

@@ -12,7 +12,6 @@
 //! Loaders turn a failed decode into a warning naming the image and leave the slot that wanted
 //! it empty (the factor alone applies). Never an error, never a panic.
 
-use crate::image_io::srgb8_to_linear;
 use crate::texture::Texture;
 use glam::Vec4;
 use image::{DynamicImage, ImageFormat, ImageReader, Limits};
@@ -59,12 +58,6 @@ pub(in crate::scene) fn is_greyscale(image: &DynamicImage) -> bool {
     !image.color().has_color()
 }
 
-/// The sRGB EOTF for a 16-bit code.
-fn srgb16_to_linear(v: u16) -> f32 {
-    let s = v as f64 / 65535.0;
-    (if s <= 0.04045 { s / 12.92 } else { ((s + 0.055) / 1.055).powf(2.4) }) as f32
-}
-
 /// Interleaved samples, `channels` per pixel (1 grey, 2 grey + alpha, 3 RGB, 4 RGBA), to RGBA.
 fn texels<T: Copy>(
     samples: &[T],
@@ -84,31 +77,34 @@ fn texels<T: Copy>(
         .collect()
 }
 
-/// Linear RGBA texels of a decoded image, RGB decoded from `space`.
+/// The texels of a decoded image. Integer sRGB colour keeps its encoded values, decoded after
+/// filtering ([`Texture::srgb_encoded`], as Cycles does: docs/design.md §3.10); linear data is
+/// scaled to [0, 1]; float images are linear already.
 pub(in crate::scene) fn to_texture(name: String, image: &DynamicImage, space: ColorSpace) -> Texture {
-    let srgb = space == ColorSpace::Srgb;
-    let c8 = |v: u8| if srgb { srgb8_to_linear(v) } else { v as f32 / 255.0 };
-    let a8 = |v: u8| v as f32 / 255.0;
-    let c16 = |v: u16| if srgb { srgb16_to_linear(v) } else { v as f32 / 65535.0 };
-    let a16 = |v: u16| v as f32 / 65535.0;
+    let c8 = |v: u8| v as f32 / 255.0;
+    let c16 = |v: u16| v as f32 / 65535.0;
     // Float images hold linear values already; non-finite ones would poison every lookup.
     let f = |v: f32| if v.is_finite() { v } else { 0.0 };
-    let data = match image {
-        DynamicImage::ImageLuma8(i) => texels(i.as_raw(), 1, c8, a8),
-        DynamicImage::ImageLumaA8(i) => texels(i.as_raw(), 2, c8, a8),
-        DynamicImage::ImageRgb8(i) => texels(i.as_raw(), 3, c8, a8),
-        DynamicImage::ImageRgba8(i) => texels(i.as_raw(), 4, c8, a8),
-        DynamicImage::ImageLuma16(i) => texels(i.as_raw(), 1, c16, a16),
-        DynamicImage::ImageLumaA16(i) => texels(i.as_raw(), 2, c16, a16),
-        DynamicImage::ImageRgb16(i) => texels(i.as_raw(), 3, c16, a16),
-        DynamicImage::ImageRgba16(i) => texels(i.as_raw(), 4, c16, a16),
-        DynamicImage::ImageRgb32F(i) => texels(i.as_raw(), 3, f, f),
-        DynamicImage::ImageRgba32F(i) => texels(i.as_raw(), 4, f, f),
+    let (data, integer) = match image {
+        DynamicImage::ImageLuma8(i) => (texels(i.as_raw(), 1, c8, c8), true),
+        DynamicImage::ImageLumaA8(i) => (texels(i.as_raw(), 2, c8, c8), true),
+        DynamicImage::ImageRgb8(i) => (texels(i.as_raw(), 3, c8, c8), true),
+        DynamicImage::ImageRgba8(i) => (texels(i.as_raw(), 4, c8, c8), true),
+        DynamicImage::ImageLuma16(i) => (texels(i.as_raw(), 1, c16, c16), true),
+        DynamicImage::ImageLumaA16(i) => (texels(i.as_raw(), 2, c16, c16), true),
+        DynamicImage::ImageRgb16(i) => (texels(i.as_raw(), 3, c16, c16), true),
+        DynamicImage::ImageRgba16(i) => (texels(i.as_raw(), 4, c16, c16), true),
+        DynamicImage::ImageRgb32F(i) => (texels(i.as_raw(), 3, f, f), false),
+        DynamicImage::ImageRgba32F(i) => (texels(i.as_raw(), 4, f, f), false),
         // Layouts added to the image crate later: through 16-bit RGBA, which loses nothing an
         // 8/16-bit texture had.
-        other => texels(other.to_rgba16().as_raw(), 4, c16, a16),
+        other => (texels(other.to_rgba16().as_raw(), 4, c16, c16), true),
     };
-    Texture::new(name, image.width(), image.height(), data)
+    if integer && space == ColorSpace::Srgb {
+        Texture::srgb_encoded(name, image.width(), image.height(), data)
+    } else {
+        Texture::new(name, image.width(), image.height(), data)
+    }
 }
 
 #[cfg(test)]
@@ -122,7 +118,12 @@ mod tests {
         bytes
     }
 
-    /// Every layout becomes RGBA; sRGB applies to colour only, never to alpha or linear data.
+    fn texel(t: &Texture, i: usize) -> Vec4 {
+        t.linear_texel(i)
+    }
+
+    /// Every layout becomes RGBA; sRGB applies to colour only, never to alpha or linear data;
+    /// integer sRGB images stay encoded (decoded by lookups), float images are linear.
     #[test]
     fn scene_image_layouts_and_colour_spaces() {
         let srgb128 = 0.215_860_5; // the sRGB EOTF of 128/255
@@ -131,19 +132,20 @@ mod tests {
         let decoded = decode(&bytes).unwrap();
         assert!(is_greyscale(&decoded));
         let t = to_texture("g".into(), &decoded, ColorSpace::Srgb);
-        assert!((t.texels[0] - Vec4::new(srgb128, srgb128, srgb128, 1.0)).abs().max_element() < 1e-6);
+        assert!(t.srgb && (t.texels[0].x - 128.0 / 255.0).abs() < 1e-7);
+        assert!((texel(&t, 0) - Vec4::new(srgb128, srgb128, srgb128, 1.0)).abs().max_element() < 1e-6);
         let t = to_texture("g".into(), &decoded, ColorSpace::Linear);
-        assert!((t.texels[0].x - 128.0 / 255.0).abs() < 1e-7);
+        assert!(!t.srgb && (t.texels[0].x - 128.0 / 255.0).abs() < 1e-7);
 
         let ga = DynamicImage::ImageLumaA8(ImageBuffer::from_pixel(1, 1, LumaA([255u8, 128])));
         let t = to_texture("ga".into(), &decode(&encode(ga, ImageFormat::Png)).unwrap(), ColorSpace::Srgb);
-        assert_eq!(t.texels[0], Vec4::new(1.0, 1.0, 1.0, 128.0 / 255.0));
+        assert_eq!(texel(&t, 0), Vec4::new(1.0, 1.0, 1.0, 128.0 / 255.0));
 
         let rgba = DynamicImage::ImageRgba8(ImageBuffer::from_pixel(2, 1, Rgba([128u8, 0, 255, 64])));
         let t =
             to_texture("rgba".into(), &decode(&encode(rgba, ImageFormat::Png)).unwrap(), ColorSpace::Srgb);
         assert_eq!((t.width, t.height, t.texels.len()), (2, 1, 2));
-        assert!((t.texels[1] - Vec4::new(srgb128, 0.0, 1.0, 64.0 / 255.0)).abs().max_element() < 1e-6);
+        assert!((texel(&t, 1) - Vec4::new(srgb128, 0.0, 1.0, 64.0 / 255.0)).abs().max_element() < 1e-6);
 
         // 16-bit: 32896 = 128.5 × 256 … the exact EOTF of the 16-bit code, alpha linear.
         let rgb16 =
@@ -152,9 +154,9 @@ mod tests {
         let s = 32768.0 / 65535.0;
         let want = ((s + 0.055) / 1.055f64).powf(2.4) as f32;
         assert!(
-            (t.texels[0] - Vec4::new(want, 1.0, 0.0, s as f32)).abs().max_element() < 1e-6,
+            (texel(&t, 0) - Vec4::new(want, 1.0, 0.0, s as f32)).abs().max_element() < 1e-6,
             "{}",
-            t.texels[0]
+            texel(&t, 0)
         );
         let l16 = DynamicImage::ImageLuma16(ImageBuffer::from_pixel(1, 1, Luma([65535u16])));
         let t =

@@ -93,7 +93,8 @@ fn scene_obj_textures_alpha_and_glass() {
     let st = transform.transform_point2(Vec2::new(0.1, 0.8));
     assert!((st - Vec2::new(0.7, 0.35)).length() < 1e-6, "{st}");
     let t = &scene.textures[base.texture as usize];
-    assert!((t.texels[0].x - 0.215_860_5).abs() < 1e-6 && t.texels[0].w == 0.0, "{}", t.texels[0]);
+    let texel = t.linear_texel(0);
+    assert!((texel.x - 0.215_860_5).abs() < 1e-6 && texel.w == 0.0, "{texel}");
     assert_eq!(leaf.alpha_mode, AlphaMode::Mask { cutoff: 0.5 });
     let (normal, scale) = leaf.textures.normal.unwrap();
     assert_eq!(scale, 0.5);

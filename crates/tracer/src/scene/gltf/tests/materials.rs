@@ -103,11 +103,11 @@ fn scene_gltf_textures_sources_and_samplers() {
     assert_eq!(scene.textures.len(), 4, "{:?}", scene.textures.iter().map(|t| &t.name).collect::<Vec<_>>());
     let t = &scene.textures;
     assert_eq!((t[0].width, t[0].height), (2, 1));
-    assert!(close4(t[0].texels[0], Vec4::new(SRGB_128, 0.0, 1.0, 1.0)), "{}", t[0].texels[0]);
-    assert!(close4(t[0].texels[1], Vec4::new(0.0, 1.0, 0.0, 128.0 / 255.0)), "alpha stays linear");
-    assert!(close4(t[1].texels[0], Vec4::new(128.0 / 255.0, 0.0, 1.0, 1.0)), "linear slot");
-    assert!(close4(t[2].texels[0], Vec4::new(SRGB_128, SRGB_128, SRGB_128, 1.0)), "grey → RGB");
-    assert!(close4(t[3].texels[0], Vec4::new(10.0, 20.0, 30.0, 255.0) / 255.0), "buffer view, linear");
+    assert!(close4(t[0].linear_texel(0), Vec4::new(SRGB_128, 0.0, 1.0, 1.0)), "{}", t[0].linear_texel(0));
+    assert!(close4(t[0].linear_texel(1), Vec4::new(0.0, 1.0, 0.0, 128.0 / 255.0)), "alpha stays linear");
+    assert!(close4(t[1].linear_texel(0), Vec4::new(128.0 / 255.0, 0.0, 1.0, 1.0)), "linear slot");
+    assert!(close4(t[2].linear_texel(0), Vec4::new(SRGB_128, SRGB_128, SRGB_128, 1.0)), "grey → RGB");
+    assert!(close4(t[3].linear_texel(0), Vec4::new(10.0, 20.0, 30.0, 255.0) / 255.0), "buffer view, linear");
 
     let a = &scene.materials[0].textures;
     let want = TextureRef {
@@ -165,7 +165,7 @@ fn scene_gltf_glb_image_from_the_binary_chunk() {
     let scene = crate::scene::Scene::load(&dir.write("image.glb", glb(&doc, &bin))).unwrap();
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
     assert_eq!((scene.textures[0].width, scene.textures[0].height), (3, 2));
-    assert!(close4(scene.textures[0].texels[5], Vec4::new(1.0, SRGB_128, 0.0, 1.0)));
+    assert!(close4(scene.textures[0].linear_texel(5), Vec4::new(1.0, SRGB_128, 0.0, 1.0)));
 
     // A view running past its buffer: a warning naming the image and the view, no texture.
     let mut short = doc.clone();

@@ -1,0 +1,322 @@
+"""The Cycles parity scenes (docs/cycles.md): authored here through `bpy`, exported with
+Blender's glTF exporter to tests/data/cycles/<name>/, and rendered by Cycles from the exported
+glTF (imported back with Blender's importer, as `render.py` does for any file) into
+tests/data/cycles/<name>/reference.exr. Each scene isolates one thing; all share a floor, a back
+wall and a camera. `tests/cycles_parity.rs` renders them with mcctrace and compares.
+
+    benches/peers/cycles/run.sh scenes.py [--only NAME,NAME] [--no-render] [--spp N]
+
+References: 96×72, 8 scattering vertices, `--spp` (default 512) with seed 0, rendered on 2
+threads; the script appends name, spp, seconds to tests/data/cycles/references.csv. With
+`--noise`, a second render at a quarter of the samples (seed 1) estimates each reference's own
+relMSE (otherwise the column is nan).
+"""
+
+import argparse
+import math
+import os
+import shutil
+import sys
+
+import bpy
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import render as peer  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
+DATA = os.path.join(ROOT, "tests", "data", "cycles")
+SIZE = (96, 72)
+DEPTH = 8
+# The issue's wall: dark blue and light grey checker squares (sRGB texels).
+BLUE_GREY = ((60, 90, 140), (230, 230, 230))
+
+
+def srgb_to_linear(c):
+    c = c / 255.0
+    return c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4
+
+
+def image(folder, name, size, texel, colorspace="sRGB", alpha=False):
+    """A PNG of `size`² texels, texel(x, y) → RGB(A) bytes, saved in `folder` and loaded."""
+    img = bpy.data.images.new(name, size, size, alpha=alpha)
+    px = np.zeros((size, size, 4), dtype=np.float32)
+    for y in range(size):
+        for x in range(size):
+            v = texel(x, y)
+            px[y, x, : len(v)] = np.array(v, dtype=np.float32) / 255.0
+            if len(v) == 3:
+                px[y, x, 3] = 1.0
+    img.pixels.foreach_set(px.ravel())
+    img.filepath_raw = os.path.join(folder, name + ".png")
+    img.file_format = "PNG"
+    img.save()
+    img.colorspace_settings.name = colorspace
+    return img
+
+
+def checker(folder, name, colours, size=64, square=8):
+    a, b = colours
+    return image(folder, name, size, lambda x, y: a if (x // square + y // square) % 2 else b)
+
+
+def material(name, base=(0.8, 0.8, 0.8), metallic=0.0, roughness=0.5, specular=0.5, ior=1.5,
+             emission=None, strength=1.0, transmission=0.0, base_texture=None, normal_texture=None,
+             alpha_texture=None, one_sided=False):
+    m = bpy.data.materials.new(name)
+    m.use_nodes = True
+    nodes, links = m.node_tree.nodes, m.node_tree.links
+    p = nodes["Principled BSDF"]
+    p.inputs["Base Color"].default_value = (*base, 1.0)
+    p.inputs["Metallic"].default_value = metallic
+    p.inputs["Roughness"].default_value = roughness
+    p.inputs["Specular IOR Level"].default_value = specular
+    p.inputs["IOR"].default_value = ior
+    p.inputs["Transmission Weight"].default_value = transmission
+    if emission is not None:
+        p.inputs["Emission Color"].default_value = (*emission, 1.0)
+        p.inputs["Emission Strength"].default_value = strength
+    if base_texture is not None or alpha_texture is not None:
+        t = nodes.new("ShaderNodeTexImage")
+        t.image = base_texture or alpha_texture
+        links.new(t.outputs["Color"], p.inputs["Base Color"])
+        if alpha_texture is not None:
+            # glTF alphaMode MASK, cutoff 0.5, in the form Blender's exporter recognises:
+            # alpha = 1 − (a < 0.5).
+            less = peer.math_node(m.node_tree, "LESS_THAN", t.outputs["Alpha"], 0.5)
+            one_minus = peer.math_node(m.node_tree, "SUBTRACT", 1.0, less.outputs[0])
+            links.new(one_minus.outputs[0], p.inputs["Alpha"])
+    if normal_texture is not None:
+        t = nodes.new("ShaderNodeTexImage")
+        t.image = normal_texture
+        nm = nodes.new("ShaderNodeNormalMap")
+        links.new(t.outputs["Color"], nm.inputs["Color"])
+        links.new(nm.outputs["Normal"], p.inputs["Normal"])
+    # The exporter writes `doubleSided: false` for a material with backface culling.
+    m.use_backface_culling = one_sided
+    return m
+
+
+def add(obj, mat, uv_scale=1.0):
+    obj.data.materials.append(mat)
+    if uv_scale != 1.0:
+        for loop in obj.data.uv_layers.active.data:
+            loop.uv = (loop.uv[0] * uv_scale, loop.uv[1] * uv_scale)
+    return obj
+
+
+def plane(name, size, location, rotation=(0.0, 0.0, 0.0)):
+    bpy.ops.mesh.primitive_plane_add(size=1.0, location=location, rotation=rotation)
+    o = bpy.context.active_object
+    o.name = name
+    o.scale = size
+    bpy.ops.object.transform_apply(scale=True)
+    return o
+
+
+def sphere(name, radius, location):
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=64, ring_count=32, radius=radius, location=location)
+    o = bpy.context.active_object
+    o.name = name
+    bpy.ops.object.shade_smooth()
+    return o
+
+
+def point(name, location, watts, colour=(1.0, 1.0, 1.0)):
+    light = bpy.data.lights.new(name, "POINT")
+    light.energy = watts
+    light.color = colour
+    light.shadow_soft_size = 0.0
+    o = bpy.data.objects.new(name, light)
+    o.location = location
+    bpy.context.scene.collection.objects.link(o)
+    return o
+
+
+def spot(name, location, rotation, watts, size_deg, blend):
+    light = bpy.data.lights.new(name, "SPOT")
+    light.energy = watts
+    light.spot_size = math.radians(size_deg)
+    light.spot_blend = blend
+    light.shadow_soft_size = 0.0
+    o = bpy.data.objects.new(name, light)
+    o.location = location
+    o.rotation_euler = rotation
+    bpy.context.scene.collection.objects.link(o)
+    return o
+
+
+def room(floor, wall, floor_uv=1.0, wall_uv=1.0):
+    """A 6 × 6 floor at z = 0, a 6 × 4 back wall at y = 2 facing the camera, and the camera."""
+    add(plane("floor", (6.0, 6.0, 1.0), (0.0, 0.0, 0.0)), floor, floor_uv)
+    add(plane("wall", (6.0, 4.0, 1.0), (0.0, 2.0, 2.0), (math.pi / 2, 0.0, 0.0)), wall, wall_uv)
+    cam = bpy.data.cameras.new("camera")
+    cam.sensor_fit = "VERTICAL"
+    cam.angle_y = math.radians(35.0)
+    o = bpy.data.objects.new("camera", cam)
+    o.location = (0.0, -6.0, 1.6)
+    direction = np.array([0.0, 0.0, 0.9]) - np.array(o.location)
+    o.rotation_euler = (math.atan2(math.hypot(direction[0], direction[1]), -direction[2]), 0.0, 0.0)
+    bpy.context.scene.collection.objects.link(o)
+    bpy.context.scene.camera = o
+
+
+def grey(v=0.8):
+    return material("grey", base=(v, v, v), roughness=1.0, specular=0.0)
+
+
+def scene_textured_diffuse(folder):
+    """Lambert (no specular) with checker textures; one point light."""
+    tex = checker(folder, "checker_warm", ((200, 120, 40), (40, 60, 90)))
+    wall = checker(folder, "checker_blue_grey", BLUE_GREY)
+    room(material("floor", specular=0.0, roughness=1.0, base_texture=tex),
+         material("wall", specular=0.0, roughness=1.0, base_texture=wall), floor_uv=3.0, wall_uv=2.0)
+    point("light", (1.0, -1.5, 3.0), 300.0)
+
+
+def scene_textured_rough_dielectric(folder):
+    """The issue's wall: base colour texture (60, 90, 140) / (230, 230, 230), metallic 0,
+    roughness 0.8, Blender's default specular (IOR 1.5, level 0.5); floor likewise."""
+    wall = checker(folder, "checker_blue_grey", BLUE_GREY)
+    m = material("rough_dielectric", roughness=0.8, base_texture=wall)
+    room(m, m, floor_uv=3.0, wall_uv=2.0)
+    point("light", (1.0, -1.5, 3.0), 300.0)
+
+
+def scene_rough_dielectric(folder):
+    """The same material untextured (the dark blue alone): tells the BSDF from the texture."""
+    blue = tuple(srgb_to_linear(c) for c in BLUE_GREY[0])
+    m = material("rough_dielectric", base=blue, roughness=0.8)
+    room(m, m)
+    point("light", (1.0, -1.5, 3.0), 300.0)
+
+
+def scene_smooth_metal(folder):
+    """A nearly smooth gold sphere under a large panel: its reflection and the caustic it throws
+    are found by BSDF sampling (a point light would leave the caustic to rare fireflies)."""
+    room(grey(), grey(0.6))
+    add(sphere("ball", 0.8, (0.0, 0.0, 0.8)), material("gold", base=(0.95, 0.65, 0.3), metallic=1.0, roughness=0.1))
+    panel = plane("panel", (3.0, 2.0, 1.0), (0.0, -1.0, 3.0), (math.pi, 0.0, 0.0))
+    add(panel, material("panel", base=(0.0, 0.0, 0.0), specular=0.0, emission=(1.0, 1.0, 1.0), strength=3.0,
+                        one_sided=True))
+
+
+def scene_rough_metal(folder):
+    room(grey(), grey(0.6))
+    add(sphere("ball", 0.8, (0.0, 0.0, 0.8)), material("copper", base=(0.9, 0.45, 0.3), metallic=1.0, roughness=0.5))
+    point("light", (1.5, -2.0, 3.0), 300.0)
+
+
+def scene_point_light(folder):
+    room(grey(), material("wall", base=(0.2, 0.5, 0.7), roughness=1.0, specular=0.0))
+    point("light", (-1.0, 0.5, 1.5), 100.0, (1.0, 0.8, 0.6))
+
+
+def scene_spot_light(folder):
+    room(grey(), grey(0.6))
+    spot("spot", (0.0, -1.0, 3.5), (math.radians(20.0), 0.0, 0.0), 800.0, 50.0, 0.3)
+
+
+def scene_area_light(folder):
+    """A one-sided emissive quad (doubleSided: false), tilted so that the camera sees its back."""
+    room(grey(), grey(0.6))
+    quad = plane("panel", (1.2, 1.2, 1.0), (0.0, 0.5, 2.2), (math.radians(-135.0), 0.0, 0.0))
+    add(quad, material("panel", base=(0.0, 0.0, 0.0), specular=0.0, emission=(1.0, 0.9, 0.7), strength=8.0,
+                       one_sided=True))
+
+
+def scene_emission(folder):
+    """A two-sided emissive sphere is the only light."""
+    room(grey(), grey(0.6))
+    add(sphere("lamp", 0.5, (0.0, 0.0, 0.9)),
+        material("lamp", base=(0.0, 0.0, 0.0), specular=0.0, emission=(1.0, 0.5, 0.2), strength=6.0))
+
+
+def scene_normal_map(folder):
+    """Ripples by a tangent-space normal map on a glossy floor, lit at a grazing angle."""
+    def ripple(x, y):
+        a = 2.0 * math.pi * x / 16.0
+        n = np.array([-0.5 * math.cos(a), 0.0, 1.0])
+        n /= np.linalg.norm(n)
+        return tuple(int(round((c * 0.5 + 0.5) * 255.0)) for c in n)
+    nmap = image(folder, "ripples", 64, ripple, colorspace="Non-Color")
+    room(material("floor", base=(0.7, 0.7, 0.7), roughness=0.4, normal_texture=nmap), grey(0.6), floor_uv=2.0)
+    point("light", (-3.0, 0.5, 0.8), 150.0)
+
+
+def scene_alpha_mask(folder):
+    """A quad with round holes (alphaMode MASK) in front of the wall casts a patterned shadow."""
+    def holes(x, y):
+        cx, cy = x % 16 - 7.5, y % 16 - 7.5
+        return (200, 80, 60, 0 if cx * cx + cy * cy < 25.0 else 255)
+    tex = image(folder, "holes", 64, holes, alpha=True)
+    room(grey(), grey(0.6))
+    add(plane("screen", (2.0, 2.0, 1.0), (0.0, 0.8, 1.2), (math.pi / 2, 0.0, 0.0)),
+        material("screen", roughness=1.0, specular=0.0, alpha_texture=tex))
+    point("light", (0.8, -2.5, 2.5), 300.0)
+
+
+def scene_transmission(folder):
+    """A smooth glass sphere (transmission 1, IOR 1.5) over a checker floor."""
+    tex = checker(folder, "checker_warm", ((200, 120, 40), (40, 60, 90)))
+    room(material("floor", specular=0.0, roughness=1.0, base_texture=tex), grey(0.6), floor_uv=3.0)
+    add(sphere("glass", 0.7, (0.0, 0.0, 0.7)), material("glass", base=(1.0, 1.0, 1.0), roughness=0.0, transmission=1.0))
+    point("light", (1.5, -2.0, 3.0), 300.0)
+
+
+SCENES = {name[len("scene_"):]: f for name, f in globals().items() if name.startswith("scene_")}
+
+
+def author(name):
+    folder = os.path.join(DATA, name)
+    shutil.rmtree(folder, ignore_errors=True)
+    os.makedirs(folder)
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    SCENES[name](folder)
+    scene = bpy.context.scene
+    scene.render.resolution_x, scene.render.resolution_y = SIZE
+    path = os.path.join(folder, name + ".gltf")
+    bpy.ops.export_scene.gltf(filepath=path, export_format="GLTF_SEPARATE", export_cameras=True,
+                              export_lights=True, export_yup=True, export_apply=True)
+    return path
+
+
+def main():
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:]
+    p = argparse.ArgumentParser()
+    p.add_argument("--only")
+    p.add_argument("--no-render", action="store_true")
+    p.add_argument("--spp", type=int, default=512)
+    p.add_argument("--noise", action="store_true", help="estimate each reference's noise")
+    a = p.parse_args(argv)
+    names = a.only.split(",") if a.only else list(SCENES)
+    noise = []
+    for name in names:
+        path = author(name)
+        if a.no_render:
+            continue
+        scene = peer.import_scene(path, "camera")
+        peer.one_sided_emission(path)
+        peer.configure(scene, SIZE, a.spp, DEPTH, 0, 2)
+        out = os.path.join(DATA, name, "reference.exr")
+        seconds = peer.render(scene, out)
+        ref = peer.load_rgb(out)
+        est = float("nan")
+        if a.noise:
+            scene.cycles.samples = a.spp // 4
+            scene.cycles.seed = 1
+            second = os.path.join(DATA, name, "noise.exr")
+            peer.render(scene, second)
+            est = peer.noise_of(ref, peer.load_rgb(second), a.spp, a.spp // 4)
+            os.remove(second)
+        print(f"{name}: {a.spp} spp in {seconds:.1f} s, estimated relMSE {est:.2e}, means {ref.mean(axis=(0, 1))}")
+        noise.append((name, a.spp, seconds, est))
+    if noise:
+        with open(os.path.join(DATA, "references.csv"), "a", encoding="utf-8") as f:
+            # name, spp, seconds, estimated relMSE of the reference (nan without --noise)
+            for row in noise:
+                f.write("%s,%d,%.1f,%.3e\n" % row)
+
+
+if __name__ == "__main__":
+    main()
