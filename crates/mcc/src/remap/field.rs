@@ -8,7 +8,7 @@
 //! without the cancellation that averaging unit vectors suffers. Origins are interpolated as
 //! points, and not at all when every edge ray shares one origin (pinholes).
 
-use super::membrane::Membrane;
+use super::membrane::{Membrane, prolong, relax};
 use crate::ray_file::StoredRay;
 use crate::slerp::angle_between;
 use glam::{DVec3, Vec3};
@@ -17,6 +17,8 @@ use rayon::prelude::*;
 /// Relative residual at which the membrane solves stop. What error is left is smooth: it bends
 /// the field by far less than a pixel's step (docs/design.md §5.8).
 const TOLERANCE: f64 = 1e-4;
+/// Red–black sweeps of the membrane on the pixels after the interpolation from 2 × 2 blocks.
+const RELAX_SWEEPS: usize = 4;
 /// Iterations a solve may take (a handful reach [`TOLERANCE`]; docs/performance.md).
 const MAX_ITERATIONS: usize = 30;
 
@@ -89,15 +91,23 @@ impl CameraField {
 }
 
 /// The solvers the fields of one picture share (their buffers are reused camera after camera).
+/// Each field is solved on the grid of 2 × 2 blocks, interpolated bilinearly and relaxed on the
+/// pixels (docs/design.md §5.8).
 pub(crate) struct FieldSolvers {
+    width: usize,
+    height: usize,
     directions: Membrane<2>,
     origins: Membrane<3>,
+    /// Blocks holding a pixel of the camera (the coarse membrane's fixed cells).
+    fixed: Vec<bool>,
 }
 
 impl FieldSolvers {
     /// Solvers for `width × height` pictures.
     pub(crate) fn new(width: usize, height: usize) -> Self {
-        Self { directions: Membrane::new(width, height), origins: Membrane::new(width, height) }
+        let (cw, ch) = (width.div_ceil(2), height.div_ceil(2));
+        let (directions, origins) = (Membrane::new(cw, ch), Membrane::new(cw, ch));
+        Self { width, height, directions, origins, fixed: Vec::new() }
     }
 
     /// The field of camera `c` (its pixels are those with `cam[p] == c`; `edges` marks its edge
@@ -113,12 +123,14 @@ impl FieldSolvers {
         let n = cam.len();
         let edge = |p: usize| cam[p] == c && edges[p];
         let frame = TangentFrame::around((0..n).filter(|&p| edge(p)).map(|p| sources[p].direction));
-        // Only edge pixels of the camera are ever read as fixed values.
-        let mut tangent: Vec<[f32; 2]> = (0..n)
-            .into_par_iter()
-            .map(|p| if edge(p) { frame.log(sources[p].direction) } else { [0.0; 2] })
-            .collect();
-        self.directions.solve(|p| cam[p] == c, &mut tangent, TOLERANCE, MAX_ITERATIONS);
+        let (w, h) = (self.width, self.height);
+        let (cw, ch) = (w.div_ceil(2), h.div_ceil(2));
+        self.fixed.clear();
+        self.fixed.par_extend((0..cw * ch).into_par_iter().map(|b| block(b, cw, w, h).any(|p| cam[p] == c)));
+        let own = |p: usize| cam[p] == c;
+        let size = (w, h);
+        let log = |p: usize| edge(p).then(|| frame.log(sources[p].direction));
+        let tangent = block_field(&mut self.directions, &self.fixed, size, own, log);
         // Origins: one shared point (bit for bit) needs no membrane.
         let mut edge_origins = (0..n).filter(|&p| edge(p)).map(|p| sources[p].origin);
         let origin = edge_origins.next().unwrap_or(Vec3::ZERO);
@@ -126,13 +138,50 @@ impl FieldSolvers {
         if edge_origins.all(|o| bits(o) == bits(origin)) {
             return CameraField { frame, tangent, origins: None, origin };
         }
-        let mut points: Vec<[f32; 3]> = (0..n)
-            .into_par_iter()
-            .map(|p| if edge(p) { sources[p].origin.to_array() } else { [0.0; 3] })
-            .collect();
-        self.origins.solve(|p| cam[p] == c, &mut points, TOLERANCE, MAX_ITERATIONS);
+        let point = |p: usize| edge(p).then(|| sources[p].origin.to_array());
+        let points = block_field(&mut self.origins, &self.fixed, size, own, point);
         CameraField { frame, tangent, origins: Some(points), origin }
     }
+}
+
+/// The pixels of block `b` of a `w × h` picture (`cw` blocks wide).
+fn block(b: usize, cw: usize, w: usize, h: usize) -> impl Iterator<Item = usize> {
+    let (x0, y0) = (2 * (b % cw), 2 * (b / cw));
+    (y0..(y0 + 2).min(h)).flat_map(move |y| (x0..(x0 + 2).min(w)).map(move |x| y * w + x))
+}
+
+/// A field solved on 2 × 2 blocks: blocks with a pixel of the camera (`fixed`) hold the mean
+/// `value` of its edge pixels among them, the membrane fills the other blocks, and the pixels
+/// that are not the camera's `own` get the bilinear interpolation of the blocks, relaxed by a few
+/// sweeps of the membrane on the pixels (which settle the step from the camera's edge). A block
+/// of only inner pixels has no value, and no other pixel's interpolation reads it: edges are
+/// 8-connected, so every pixel next to a non-own pixel is an edge pixel.
+fn block_field<const K: usize>(
+    membrane: &mut Membrane<K>,
+    fixed: &[bool],
+    (w, h): (usize, usize),
+    own: impl Fn(usize) -> bool + Sync,
+    value: impl Fn(usize) -> Option<[f32; K]> + Sync,
+) -> Vec<[f32; K]> {
+    let (cw, ch) = (w.div_ceil(2), h.div_ceil(2));
+    let mut coarse: Vec<[f32; K]> = (0..cw * ch)
+        .into_par_iter()
+        .map(|b| {
+            let (mut sum, mut count) = ([0.0f32; K], 0.0f32);
+            if fixed[b] {
+                for v in block(b, cw, w, h).filter_map(&value) {
+                    (0..K).for_each(|k| sum[k] += v[k]);
+                    count += 1.0;
+                }
+            }
+            if count > 0.0 { sum.map(|s| s / count) } else { sum }
+        })
+        .collect();
+    membrane.solve(|b| fixed[b], &mut coarse, TOLERANCE, MAX_ITERATIONS);
+    let mut fine: Vec<[f32; K]> = (0..w * h).into_par_iter().map(|p| value(p).unwrap_or([0.0; K])).collect();
+    prolong(&coarse, (cw, ch), |_| true, &mut fine, (w, h), |p| !own(p), false);
+    relax(&mut fine, own, w, h, RELAX_SWEEPS);
+    fine
 }
 
 #[cfg(test)]

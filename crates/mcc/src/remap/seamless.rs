@@ -16,8 +16,9 @@
 //!
 //! Camera pixels keep their rays bit for bit. Directions are combined by burp exactly as in the
 //! column's mode (ascending id, accurate slerp: opposite directions never give NaN), origins by
-//! the weighted sum. Cost: one exact distance transform and one membrane solve per camera (two
-//! when its origins differ), each linear in the pixel count.
+//! the weighted sum. Cost: one exact distance transform and one membrane solve on 2 × 2 blocks
+//! per camera (two when its origins differ), one fade per set of regions, each linear in the
+//! pixel count.
 
 use super::RemapWarning;
 use super::field::FieldSolvers;
@@ -71,18 +72,26 @@ pub(crate) fn seamless(
             participates[k][r] = true;
         }
     }
-    let participation: Vec<Option<Vec<f32>>> = (0..cameras)
-        .into_par_iter()
-        .map(|k| fade_plane(&participates[k], &background, region, width, height, fade))
+    // Cameras that take part in the same regions share one faded plane.
+    let mut patterns: Vec<&Vec<bool>> = participates.iter().collect();
+    patterns.sort();
+    patterns.dedup();
+    let planes: Vec<Option<Vec<f32>>> = patterns
+        .par_iter()
+        .map(|pattern| fade_plane(pattern, &background, region, width, height, fade))
+        .collect();
+    let participation: Vec<Option<&[f32]>> = participates
+        .iter()
+        .map(|p| planes[patterns.binary_search(&p).expect("a pattern")].as_deref())
         .collect();
     let weights = weight_planes(cam, edges, &participation, cameras, width, height);
-    drop(participation);
+    drop(planes);
     let rays = blend(cam, edges, sources, &weights, width, height);
     SeamlessBlend { rays, weights, warnings }
 }
 
-/// Camera k's faded participation π_k, or `None` where it participates in every region with
-/// background (π_k = 1 throughout: nothing to fade).
+/// The faded participation π of the cameras that take part in the regions `participates` marks,
+/// or `None` where that is every region with background (π = 1 throughout: nothing to fade).
 fn fade_plane(
     participates: &[bool],
     background: &[usize],
@@ -110,7 +119,7 @@ fn fade_plane(
 fn weight_planes(
     cam: &[u32],
     edges: &[bool],
-    participation: &[Option<Vec<f32>>],
+    participation: &[Option<&[f32]>],
     cameras: usize,
     width: usize,
     height: usize,
@@ -134,7 +143,7 @@ fn weight_planes(
                 }
                 let mut sum = 0.0f64;
                 for k in 0..cameras {
-                    let pi = participation[k].as_ref().map_or(1.0, |plane| plane[p] as f64);
+                    let pi = participation[k].map_or(1.0, |plane| plane[p] as f64);
                     let (e, w) = (nearest.planes[k][p], width as u32);
                     let (dx, dy) = ((e % w) as f64 - x as f64, (e / w) as f64 - y as f64);
                     v[k] = pi / (dx * dx + dy * dy);

@@ -16,7 +16,7 @@
 //! grounds) for a full-multigrid start: solve the coarsest level, interpolate, one V-cycle per
 //! level on the way up (Brandt 1977).
 
-use super::{PARALLEL_CELLS, Shared};
+use super::{PARALLEL_CELLS, Shared, for_rows};
 use rayon::prelude::*;
 
 /// Coarsening stops at a level with at most this many cells, which is swept instead.
@@ -49,15 +49,8 @@ pub(super) struct Work<const K: usize> {
     pub solution: Vec<[f32; K]>,
     pub rhs: Vec<[f32; K]>,
     residual: Vec<[f32; K]>,
-}
-
-/// Runs `rows` over the rows of `out` (`width` cells each), in parallel when it is large.
-fn for_rows<T: Send>(out: &mut [T], width: usize, rows: impl Fn((usize, &mut [T])) + Sync + Send) {
-    if out.len() >= PARALLEL_CELLS {
-        out.par_chunks_mut(width).enumerate().for_each(rows);
-    } else {
-        out.chunks_mut(width).enumerate().for_each(rows);
-    }
+    /// Rows of the finer level folded to this level's width ([`restrict`]'s scratch).
+    pub folded: Vec<[f32; K]>,
 }
 
 /// Rebuilds `levels` (reusing their memory) for a `width × height` mask.
@@ -289,7 +282,7 @@ impl Coarse {
 /// A u = `here.rhs`; the deeper levels' buffers are overwritten.
 pub(super) fn cycle<const K: usize>(levels: &[Coarse], here: &mut Work<K>, rest: &mut [Work<K>]) {
     let level = &levels[0];
-    let Work { solution: u, rhs: b, residual: r } = here;
+    let Work { solution: u, rhs: b, residual: r, .. } = here;
     let Some((next, deeper)) = rest.split_first_mut() else {
         for _ in 0..COARSEST_SWEEPS {
             level.sweep(u, b, [0, 1]);
@@ -299,10 +292,11 @@ pub(super) fn cycle<const K: usize>(levels: &[Coarse], here: &mut Work<K>, rest:
     };
     level.sweep(u, b, [0, 1]);
     level.residual(u, b, r);
-    restrict(r, level.width, level.height, &levels[1], &mut next.rhs);
+    restrict(r, level.width, level.height, &levels[1], &mut next.rhs, &mut next.folded);
     next.solution.iter_mut().for_each(|v| *v = [0.0; K]);
     cycle(&levels[1..], next, deeper);
-    prolong_add(&next.solution, &levels[1], u, level.width, level.height, |p| level.diag[p] > 0.0);
+    let (fine, coarse) = ((level.width, level.height), (levels[1].width, levels[1].height));
+    prolong(&next.solution, coarse, |_| true, u, fine, |p| level.diag[p] > 0.0, true);
     level.sweep(u, b, [1, 0]);
 }
 
@@ -319,13 +313,17 @@ pub(super) fn full_multigrid<const K: usize>(levels: &[Coarse], work: &mut [Work
         let here = &mut here[l];
         let level = &levels[l];
         here.solution.iter_mut().for_each(|v| *v = [0.0; K]);
-        interpolate(
+        let next = &levels[l + 1];
+        let active = |c: usize| next.diag[c] > 0.0;
+        let (fine, coarse) = ((level.width, level.height), (next.width, next.height));
+        prolong(
             &coarser[0].solution,
-            &levels[l + 1],
+            coarse,
+            active,
             &mut here.solution,
-            level.width,
-            level.height,
+            fine,
             |p| level.diag[p] > 0.0,
+            false,
         );
         cycle(&levels[l..], here, coarser);
     }
@@ -376,20 +374,22 @@ fn weight(x: usize, c: usize, coarse_len: usize) -> f32 {
     0.75 * (own == c) as u32 as f32 + 0.25 * (other == c) as u32 as f32
 }
 
-/// The coarse rhs: the transpose of [`prolong_add`] applied to the residual `r`. Separable: each
-/// fine row is folded to coarse width, then the (up to four) rows of a coarse row are weighed.
+/// The coarse rhs: the transpose of [`prolong`] (adding) applied to the residual `r`. Separable:
+/// every fine row is folded to coarse width into `folded` (kept between calls, so the iterations
+/// allocate nothing), then the (up to four) folded rows of a coarse row are weighed.
 pub(super) fn restrict<const K: usize>(
     r: &[[f32; K]],
     w: usize,
     h: usize,
     coarse: &Coarse,
     out: &mut [[f32; K]],
+    folded: &mut Vec<[f32; K]>,
 ) {
     let (cw, ch) = (coarse.width, coarse.height);
-    let fold = |row: &[[f32; K]], folded: &mut Vec<[f32; K]>| {
-        folded.clear();
-        folded.resize(cw, [0.0; K]);
-        for (cx, f) in folded.iter_mut().enumerate() {
+    folded.resize(cw * h, [0.0; K]);
+    for_rows(&mut folded[..cw * h], cw, |(y, frow)| {
+        let row = &r[y * w..(y + 1) * w];
+        for (cx, f) in frow.iter_mut().enumerate() {
             let x0 = 2 * cx;
             if cx > 0 && x0 + 2 < w && cx + 1 < cw {
                 let (a, b, c, d) = (row[x0 - 1], row[x0], row[x0 + 1], row[x0 + 2]);
@@ -405,16 +405,16 @@ pub(super) fn restrict<const K: usize>(
                 *f = s;
             }
         }
-    };
-    let rows = |(cy, orow): (usize, &mut [[f32; K]]), folded: &mut Vec<[f32; K]>| {
+    });
+    let folded = &folded[..cw * h];
+    for_rows(out, cw, |(cy, orow)| {
         orow.iter_mut().for_each(|o| *o = [0.0; K]);
         for y in (2 * cy).saturating_sub(1)..(2 * cy + 3).min(h) {
             let wy = weight(y, cy, ch);
             if wy == 0.0 {
                 continue;
             }
-            fold(&r[y * w..(y + 1) * w], folded);
-            for (o, f) in orow.iter_mut().zip(folded.iter()) {
+            for (o, f) in orow.iter_mut().zip(&folded[y * cw..(y + 1) * cw]) {
                 for k in 0..K {
                     o[k] += wy * f[k];
                 }
@@ -425,34 +425,47 @@ pub(super) fn restrict<const K: usize>(
                 *o = [0.0; K];
             }
         }
-    };
-    if out.len() >= PARALLEL_CELLS {
-        out.par_chunks_mut(cw).enumerate().for_each_init(Vec::new, |folded, row| rows(row, folded));
-    } else {
-        let mut folded = Vec::new();
-        out.chunks_mut(cw).enumerate().for_each(|row| rows(row, &mut folded));
-    }
+    });
 }
 
-/// Adds the bilinearly prolonged coarse correction `e` to `u` wherever `free(p)` (inactive coarse
-/// cells hold 0, so corrections fade towards fixed pixels).
-pub(super) fn prolong_add<const K: usize>(
+/// Bilinear prolongation of the coarse values `e` (a `cw × ch` grid of 2 × 2 blocks of the
+/// `w × h` grid of `u`) at every fine cell where `free(p)`. Adding (`add`), the correction is
+/// added with the full weights (inactive cells hold 0, so corrections fade towards fixed
+/// pixels); otherwise `u` becomes the interpolation over the `active` cells only (weights
+/// renormalised: an inactive cell has no value).
+#[allow(clippy::too_many_arguments)] // two grids and the two masks
+pub(crate) fn prolong<const K: usize>(
     e: &[[f32; K]],
-    coarse: &Coarse,
+    (cw, ch): (usize, usize),
+    active: impl Fn(usize) -> bool + Sync,
     u: &mut [[f32; K]],
-    w: usize,
-    h: usize,
+    (w, h): (usize, usize),
     free: impl Fn(usize) -> bool + Sync,
+    add: bool,
 ) {
     debug_assert_eq!(u.len(), w * h);
+    debug_assert!(cw == w.div_ceil(2) && ch == h.div_ceil(2));
     for_rows(u, w, |(y, row)| {
         for (x, out) in row.iter_mut().enumerate() {
             if !free(y * w + x) {
                 continue;
             }
-            let [a, b, c, d] = stencil(x, y, coarse).map(|(cell, _)| e[cell]);
-            for k in 0..K {
-                out[k] += 0.5625 * a[k] + 0.1875 * (b[k] + c[k]) + 0.0625 * d[k];
+            let mut s = [0.0f32; K];
+            let mut total = 0.0f32;
+            for (c, wt) in stencil(x, y, cw, ch) {
+                if active(c) {
+                    total += wt;
+                    for k in 0..K {
+                        s[k] += wt * e[c][k];
+                    }
+                }
+            }
+            if add {
+                for k in 0..K {
+                    out[k] += s[k];
+                }
+            } else if total > 0.0 {
+                *out = s.map(|v| v / total);
             }
         }
     });
@@ -462,43 +475,9 @@ pub(super) fn prolong_add<const K: usize>(
 /// own cell, the horizontal and vertical neighbours towards it, the diagonal one; clamped at the
 /// border).
 #[inline]
-fn stencil(x: usize, y: usize, coarse: &Coarse) -> [(usize, f32); 4] {
-    let (cw, ch) = (coarse.width, coarse.height);
+fn stencil(x: usize, y: usize, cw: usize, ch: usize) -> [(usize, f32); 4] {
     let (cx, cy) = (x / 2, y / 2);
     let ox = if x & 1 == 1 { (cx + 1).min(cw - 1) } else { cx.saturating_sub(1) };
     let oy = if y & 1 == 1 { (cy + 1).min(ch - 1) } else { cy.saturating_sub(1) };
     [(cy * cw + cx, 0.5625), (cy * cw + ox, 0.1875), (oy * cw + cx, 0.1875), (oy * cw + ox, 0.0625)]
-}
-
-/// Sets `u` at every `free` cell to the bilinear interpolation of the coarse *solution* `e` over
-/// its active coarse cells only (weights renormalised; an inactive cell has no value).
-pub(super) fn interpolate<const K: usize>(
-    e: &[[f32; K]],
-    coarse: &Coarse,
-    u: &mut [[f32; K]],
-    w: usize,
-    h: usize,
-    free: impl Fn(usize) -> bool + Sync,
-) {
-    debug_assert_eq!(u.len(), w * h);
-    for_rows(u, w, |(y, row)| {
-        for (x, out) in row.iter_mut().enumerate() {
-            if !free(y * w + x) {
-                continue;
-            }
-            let mut s = [0.0f32; K];
-            let mut total = 0.0f32;
-            for (c, wt) in stencil(x, y, coarse) {
-                if coarse.diag[c] > 0.0 {
-                    total += wt;
-                    for k in 0..K {
-                        s[k] += wt * e[c][k];
-                    }
-                }
-            }
-            if total > 0.0 {
-                *out = s.map(|v| v / total);
-            }
-        }
-    });
 }

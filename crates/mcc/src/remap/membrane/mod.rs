@@ -16,6 +16,7 @@
 
 mod hierarchy;
 
+pub(crate) use hierarchy::prolong;
 use hierarchy::{Coarse, Work};
 use rayon::prelude::*;
 
@@ -106,8 +107,18 @@ impl<const K: usize> Membrane<K> {
         } else {
             hierarchy::aggregate_problem(&self.b, w, h, &self.levels, &mut self.work);
             hierarchy::full_multigrid(&self.levels, &mut self.work);
-            let free = |p: usize| !fixed[p];
-            hierarchy::interpolate(&self.work[0].solution, &self.levels[0], values, w, h, free);
+            let coarse = &self.levels[0];
+            let active = |c: usize| coarse.diag[c] > 0.0;
+            let (cw, ch) = (coarse.width, coarse.height);
+            hierarchy::prolong(
+                &self.work[0].solution,
+                (cw, ch),
+                active,
+                values,
+                (w, h),
+                |p| !fixed[p],
+                false,
+            );
         }
         // Conjugate gradients on the fine equations.
         // The updated residual drifts from the true one in f32: when it says done, the true one
@@ -221,30 +232,11 @@ impl<const K: usize> Membrane<K> {
     /// r = Σ in-image neighbours − n·u at free pixels (0 at fixed ones); returns the largest
     /// channel's norm relative to `reference`.
     fn residual(&mut self, u: &[[f32; K]], reference: &[f64; K]) -> f64 {
-        let (w, h) = (self.width, self.height);
-        let fixed = &self.fixed;
-        let rows: Vec<[f64; K]> = self
-            .r
-            .par_chunks_mut(w)
-            .enumerate()
-            .map(|(y, row)| {
-                let mut s = [0.0f64; K];
-                for (x, out) in row.iter_mut().enumerate() {
-                    let p = y * w + x;
-                    if fixed[p] {
-                        *out = [0.0; K];
-                        continue;
-                    }
-                    let (sum, n) = neighbour_sum(u, x, y, w, h);
-                    *out = std::array::from_fn(|k| sum[k] - n * u[p][k]);
-                    for k in 0..K {
-                        s[k] += out[k] as f64 * out[k] as f64;
-                    }
-                }
-                s
-            })
-            .collect();
-        relative(&sum_rows(&rows), reference)
+        let squares = apply(&self.fixed, u, &mut self.r, self.width, self.height, |_, au| {
+            let r = au.map(|v| -v);
+            (r, r.map(|v| v as f64 * v as f64))
+        });
+        relative(&squares, reference)
     }
 
     /// z = one symmetric V-cycle on A z = r from z = 0.
@@ -256,25 +248,17 @@ impl<const K: usize> Membrane<K> {
             return;
         }
         // q = r − A z (q is free until the next `apply_and_dot`), restricted.
-        let fixed = &self.fixed;
-        let (z, r) = (&self.z, &self.r);
-        for_rows(&mut self.q, w, |(y, row)| {
-            for (x, out) in row.iter_mut().enumerate() {
-                let p = y * w + x;
-                if fixed[p] {
-                    *out = [0.0; K];
-                    continue;
-                }
-                let (sum, n) = neighbour_sum(z, x, y, w, h);
-                *out = std::array::from_fn(|k| r[p][k] - (n * z[p][k] - sum[k]));
-            }
+        let r = &self.r;
+        apply(&self.fixed, &self.z, &mut self.q, w, h, |p, az| {
+            (std::array::from_fn(|k| r[p][k] - az[k]), [0.0; K])
         });
         let (first, rest) = self.work.split_first_mut().expect("a coarse level");
-        hierarchy::restrict(&self.q, w, h, &self.levels[0], &mut first.rhs);
+        hierarchy::restrict(&self.q, w, h, &self.levels[0], &mut first.rhs, &mut first.folded);
         first.solution.iter_mut().for_each(|v| *v = [0.0; K]);
         hierarchy::cycle(&self.levels, first, rest);
         let fixed = &self.fixed;
-        hierarchy::prolong_add(&first.solution, &self.levels[0], &mut self.z, w, h, |p| !fixed[p]);
+        let coarse = (self.levels[0].width, self.levels[0].height);
+        hierarchy::prolong(&first.solution, coarse, |_| true, &mut self.z, (w, h), |p| !fixed[p], true);
         self.sweep([1, 0], false);
     }
 
@@ -304,57 +288,16 @@ impl<const K: usize> Membrane<K> {
 
     /// The cells of one colour: z = (r + Σ in-image neighbours) / their count.
     fn half_sweep(&mut self, colour: usize) {
-        let (w, h) = (self.width, self.height);
-        let grid = Shared(self.z.as_mut_ptr());
-        let (fixed, r) = (&self.fixed, &self.r);
-        let row = |y: usize| {
-            let mut x = (y + colour) & 1;
-            while x < w {
-                let p = y * w + x;
-                if !fixed[p] {
-                    // SAFETY: see `sweep`.
-                    let (sum, n) = unsafe { grid.neighbours(x, y, w, h) };
-                    let inv = 1.0 / n;
-                    let v: [f32; K] = std::array::from_fn(|k| (r[p][k] + sum[k]) * inv);
-                    // SAFETY: see `sweep`.
-                    unsafe { grid.write(p, v) };
-                }
-                x += 2;
-            }
-        };
-        if w * h >= PARALLEL_CELLS {
-            (0..h).into_par_iter().for_each(row);
-        } else {
-            (0..h).for_each(row);
-        }
+        let fixed = &self.fixed;
+        half_sweep(&mut self.z, Some(&self.r), |p| fixed[p], colour, self.width, self.height);
     }
 
     /// q = A p at free pixels (0 at fixed ones; p holds 0 there); returns p·q per channel.
     fn apply_and_dot(&mut self) -> [f64; K] {
-        let (w, h) = (self.width, self.height);
-        let (fixed, p) = (&self.fixed, &self.p);
-        let rows: Vec<[f64; K]> = self
-            .q
-            .par_chunks_mut(w)
-            .enumerate()
-            .map(|(y, row)| {
-                let mut s = [0.0f64; K];
-                for (x, out) in row.iter_mut().enumerate() {
-                    let i = y * w + x;
-                    if fixed[i] {
-                        *out = [0.0; K];
-                        continue;
-                    }
-                    let (sum, n) = neighbour_sum(p, x, y, w, h);
-                    *out = std::array::from_fn(|k| n * p[i][k] - sum[k]);
-                    for k in 0..K {
-                        s[k] += p[i][k] as f64 * out[k] as f64;
-                    }
-                }
-                s
-            })
-            .collect();
-        sum_rows(&rows)
+        let p = &self.p;
+        apply(&self.fixed, p, &mut self.q, self.width, self.height, |i, ap| {
+            (ap, std::array::from_fn(|k| p[i][k] as f64 * ap[k] as f64))
+        })
     }
 
     /// u += α p, r −= α q at free pixels; returns the new residual relative to `reference`.
@@ -382,6 +325,92 @@ impl<const K: usize> Membrane<K> {
             })
             .collect();
         relative(&sum_rows(&rows), reference)
+    }
+}
+
+/// The fine operator at every free pixel: `out[p]` and a contribution to the returned sum are
+/// `f(p, (A x)(p))`, with A x = n·x − Σ in-image neighbours (x holds the fixed values, or 0, at
+/// fixed pixels); `out` is 0 at fixed pixels. Sums are per row, added in row order.
+fn apply<const K: usize>(
+    fixed: &[bool],
+    x: &[[f32; K]],
+    out: &mut [[f32; K]],
+    w: usize,
+    h: usize,
+    f: impl Fn(usize, [f32; K]) -> ([f32; K], [f64; K]) + Sync,
+) -> [f64; K] {
+    let rows: Vec<[f64; K]> = out
+        .par_chunks_mut(w)
+        .enumerate()
+        .map(|(y, row)| {
+            let mut s = [0.0f64; K];
+            for (i, o) in row.iter_mut().enumerate() {
+                let p = y * w + i;
+                if fixed[p] {
+                    *o = [0.0; K];
+                    continue;
+                }
+                let (sum, n) = neighbour_sum(x, i, y, w, h);
+                let (v, c) = f(p, std::array::from_fn(|k| n * x[p][k] - sum[k]));
+                *o = v;
+                for k in 0..K {
+                    s[k] += c[k];
+                }
+            }
+            s
+        })
+        .collect();
+    sum_rows(&rows)
+}
+
+/// Red–black Gauss–Seidel sweeps of the membrane itself on `values` (fixed pixels, where
+/// `fixed(p)`, hold their values): each free pixel becomes the mean of its neighbours. Smooths
+/// what an interpolation from a coarser grid left near the fixed pixels.
+pub(crate) fn relax<const K: usize>(
+    values: &mut [[f32; K]],
+    fixed: impl Fn(usize) -> bool + Sync,
+    w: usize,
+    h: usize,
+    sweeps: usize,
+) {
+    for _ in 0..sweeps {
+        for colour in [0, 1] {
+            half_sweep(values, None, &fixed, colour, w, h);
+        }
+    }
+}
+
+/// The free cells of one colour: u = (rhs + Σ in-image neighbours) / their count (rhs 0 when
+/// `None`). Rows run in parallel on large grids; each reads only the other colour.
+fn half_sweep<const K: usize>(
+    u: &mut [[f32; K]],
+    rhs: Option<&[[f32; K]]>,
+    fixed: impl Fn(usize) -> bool + Sync,
+    colour: usize,
+    w: usize,
+    h: usize,
+) {
+    let grid = Shared(u.as_mut_ptr());
+    let row = |y: usize| {
+        let mut x = (y + colour) & 1;
+        while x < w {
+            let p = y * w + x;
+            if !fixed(p) {
+                // SAFETY: (x, y) has this half-sweep's colour, its neighbours the other one.
+                let (sum, n) = unsafe { grid.neighbours(x, y, w, h) };
+                let inv = 1.0 / n;
+                let b = rhs.map_or([0.0; K], |r| r[p]);
+                let v: [f32; K] = std::array::from_fn(|k| (b[k] + sum[k]) * inv);
+                // SAFETY: only this task writes cells of this colour in row y.
+                unsafe { grid.write(p, v) };
+            }
+            x += 2;
+        }
+    };
+    if w * h >= PARALLEL_CELLS {
+        (0..h).into_par_iter().for_each(row);
+    } else {
+        (0..h).for_each(row);
     }
 }
 
@@ -431,13 +460,32 @@ fn neighbour_count(x: usize, y: usize, w: usize, h: usize) -> f32 {
 }
 
 /// The sum of the in-image 4-neighbours of (x, y) and their count.
-#[inline]
+#[inline(always)]
 fn neighbour_sum<const K: usize>(v: &[[f32; K]], x: usize, y: usize, w: usize, h: usize) -> ([f32; K], f32) {
+    neighbour_sum_by(|q| v[q], x, y, w, h)
+}
+
+/// [`neighbour_sum`] of the values `read` gives.
+#[inline(always)]
+fn neighbour_sum_by<const K: usize>(
+    read: impl Fn(usize) -> [f32; K],
+    x: usize,
+    y: usize,
+    w: usize,
+    h: usize,
+) -> ([f32; K], f32) {
+    let p = y * w + x;
+    if x > 0 && x + 1 < w && y > 0 && y + 1 < h {
+        // Inside: the same sum in the same order as below, without the tests.
+        let (l, r, u, d) = (read(p - 1), read(p + 1), read(p - w), read(p + w));
+        return (std::array::from_fn(|k| ((l[k] + r[k]) + u[k]) + d[k]), 4.0);
+    }
     let mut sum = [0.0f32; K];
     let mut n = 0.0f32;
     each_neighbour(x, y, w, h, |q| {
+        let v = read(q);
         for k in 0..K {
-            sum[k] += v[q][k];
+            sum[k] += v[k];
         }
         n += 1.0;
     });
@@ -445,7 +493,7 @@ fn neighbour_sum<const K: usize>(v: &[[f32; K]], x: usize, y: usize, w: usize, h
 }
 
 /// Calls `f` with the index of every in-image 4-neighbour of (x, y): left, right, up, down.
-#[inline]
+#[inline(always)]
 fn each_neighbour(x: usize, y: usize, w: usize, h: usize, mut f: impl FnMut(usize)) {
     let p = y * w + x;
     if x > 0 {
@@ -487,17 +535,8 @@ impl<const K: usize> Shared<[f32; K]> {
     /// The sum of the in-image 4-neighbours of (x, y) and their count. Caller: as for `read`.
     #[inline]
     unsafe fn neighbours(&self, x: usize, y: usize, w: usize, h: usize) -> ([f32; K], f32) {
-        let mut sum = [0.0f32; K];
-        let mut n = 0.0f32;
-        each_neighbour(x, y, w, h, |q| {
-            // SAFETY: the caller's guarantee covers every neighbour.
-            let v = unsafe { self.read(q) };
-            for k in 0..K {
-                sum[k] += v[k];
-            }
-            n += 1.0;
-        });
-        (sum, n)
+        // SAFETY: the caller's guarantee covers every neighbour.
+        neighbour_sum_by(|q| unsafe { self.read(q) }, x, y, w, h)
     }
 }
 
