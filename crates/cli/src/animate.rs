@@ -1,8 +1,10 @@
 //! `mcctrace animate`: render a shot through per-frame ray files (docs/design.md §6 lens
 //! reader, §8 workflow). Every frame is an independent unit of work: `--frames` takes any
-//! sub-range, and a frame whose EXR and PNG are both in the output folder is skipped (both are
-//! written atomically, so an existing file is complete), so a crashed run resumes and a render
-//! farm's job array can split a shot by frame ranges over a shared folder.
+//! sub-range, and a frame is skipped only when it is finished by `tracer::job::check_finished`'s
+//! rule (docs/farm.md: EXR and PNG there and whole, the same settings and rays in the header);
+//! a stale or damaged frame is rendered again and the reason said. So a crashed run resumes and
+//! a render farm's job array can split a shot by frame ranges over a shared folder; `--check`
+//! renders nothing and names every frame that is not finished (the farm's last step).
 //!
 //! Motion blur (`--shutter OPEN..CLOSE`) is camera-ray blur: each eye ray gets a time in the
 //! shutter interval and the lens reader interpolates the ray files of frames f and f+1 by it.
@@ -19,9 +21,11 @@ use crate::with_threads;
 use anyhow::{Context, bail};
 use clap::{Args, ValueEnum};
 use glam::UVec2;
-use mcc::job::{Framing, LENS_DIR_KEY, carrier_camera};
+use mcc::job::{Framing, LENS_DIR_KEY, carrier_camera, lens_dir_digest};
 use std::path::{Path, PathBuf};
-use tracer::job::{CameraRender, Provenance, RenderInfo, SceneSetup, write_render};
+use tracer::job::{
+    CameraRender, Provenance, Quality, RenderInfo, SceneSetup, Stale, check_finished, write_render,
+};
 use tracer::lens::LensChain;
 
 /// Preview kinds.
@@ -64,6 +68,11 @@ pub struct AnimateArgs {
     /// Preview of the finished frames written after rendering.
     #[arg(long, value_enum, default_value = "gif")]
     pub preview: PreviewArg,
+    /// Render nothing: check every frame of --frames by the resume rule (files there and whole,
+    /// the same settings and rays), name every missing, damaged or stale one and fail if there
+    /// is any; else write the preview. A farm's last step.
+    #[arg(long)]
+    pub check: bool,
     #[command(flatten)]
     pub quality: QualityArgs,
 }
@@ -76,13 +85,6 @@ pub fn frame_exr(out: &Path, frame: u32) -> PathBuf {
     out.join(format!("frame{frame:04}.exr"))
 }
 
-/// Whether `frame` is finished in `out`: its EXR and PNG are both there (each written
-/// atomically; the PNG is written last).
-pub fn is_finished(out: &Path, frame: u32) -> bool {
-    let exr = frame_exr(out, frame);
-    exr.is_file() && exr.with_extension("png").is_file()
-}
-
 /// What a run did.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct AnimateReport {
@@ -90,6 +92,8 @@ pub struct AnimateReport {
     pub rendered: Vec<u32>,
     /// Frames skipped because they were finished.
     pub skipped: Vec<u32>,
+    /// Frames rendered again, and why their files were not finished (missing files aside).
+    pub stale: Vec<(u32, Stale)>,
     /// The preview written, if any.
     pub preview: Option<PathBuf>,
 }
@@ -110,17 +114,87 @@ fn framing(a: &AnimateArgs, first: u32) -> anyhow::Result<Framing> {
         .ok_or_else(|| anyhow::anyhow!("--crop {} leaves nothing of a {}x{} image", a.crop, rays.x, rays.y))
 }
 
-/// Renders the frames `a` asks for that are not finished, then the preview.
+/// The settings every frame of a run shares, and what its files are checked against.
+struct Shot<'a> {
+    a: &'a AnimateArgs,
+    setup: SceneSetup,
+    quality: Quality,
+    shutter: (f32, f32),
+    framing: Framing,
+}
+
+impl<'a> Shot<'a> {
+    fn new(a: &'a AnimateArgs) -> anyhow::Result<Self> {
+        let q = &a.quality;
+        let setup = q.scene_setup(a.fps)?;
+        if !a.lens_dir.is_dir() {
+            bail!("--lens-dir {}: not a directory", a.lens_dir.display());
+        }
+        let shutter = a.shutter.map_or((0.0, 0.0), |s| (s.open, s.close));
+        let framing = framing(a, a.frames.first)?;
+        Ok(Self { a, setup, quality: q.quality(), shutter, framing })
+    }
+
+    fn motion_blur(&self) -> bool {
+        self.shutter.1 > self.shutter.0
+    }
+
+    /// The header of `frame`, its rays' hash being `digest`.
+    fn info<'b>(&'b self, frame: u32, digest: &'b str) -> RenderInfo<'b> {
+        let provenance = Provenance {
+            projection: None,
+            environment_map: self.setup.environment_image.as_ref(),
+            rays_from: Some((LENS_DIR_KEY, &self.a.lens_dir)),
+            rays_digest: Some(digest),
+        };
+        RenderInfo {
+            shutter: self.shutter,
+            provenance,
+            setup: Some(&self.setup),
+            crop: self.a.crop,
+            ..RenderInfo::new(&self.a.scene, ANIMATED, frame, &self.quality)
+        }
+    }
+
+    /// The hash of the rays `frame` goes through.
+    fn digest(&self, frame: u32) -> anyhow::Result<String> {
+        lens_dir_digest(&self.a.lens_dir, frame, self.motion_blur())
+            .with_context(|| format!("frame {frame}: reading its rays"))
+    }
+
+    /// Whether `frame` is finished in the output folder (`Ok`), or why not.
+    fn status(&self, frame: u32) -> anyhow::Result<Result<(), Stale>> {
+        let digest = self.digest(frame)?;
+        let exr = frame_exr(&self.a.out, frame);
+        let settings = self.info(frame, &digest).settings();
+        Ok(check_finished(&exr, Some(&exr.with_extension("png")), &settings, self.framing.output()))
+    }
+}
+
+/// Renders the frames `a` asks for that are not finished, then the preview (with `--check`,
+/// renders nothing and fails naming every frame that is not finished).
 pub fn animate(a: &AnimateArgs) -> anyhow::Result<AnimateReport> {
     let q = &a.quality;
-    let setup = q.scene_setup(a.fps)?;
-    if !a.lens_dir.is_dir() {
-        bail!("--lens-dir {}: not a directory", a.lens_dir.display());
+    let shot = Shot::new(a)?;
+    if a.check {
+        return check(&shot);
     }
     std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
     let mut report = AnimateReport::default();
-    let (todo, skipped): (Vec<u32>, Vec<u32>) = a.frames.range().partition(|&f| !is_finished(&a.out, f));
-    report.skipped = skipped;
+    let mut todo = Vec::new();
+    for frame in a.frames.range() {
+        match shot.status(frame)? {
+            Ok(()) => report.skipped.push(frame),
+            Err(Stale::Missing(_)) if !frame_exr(&a.out, frame).exists() => todo.push(frame),
+            Err(why) => {
+                if !q.quiet {
+                    eprintln!("frame {frame}: {why}, re-rendering");
+                }
+                report.stale.push((frame, why));
+                todo.push(frame);
+            }
+        }
+    }
     if !q.quiet && !report.skipped.is_empty() {
         eprintln!(
             "animate: {} of {} frames already finished in {}, skipped",
@@ -129,25 +203,25 @@ pub fn animate(a: &AnimateArgs) -> anyhow::Result<AnimateReport> {
             a.out.display()
         );
     }
-    if let Some(&first) = todo.first() {
-        let shutter = a.shutter.map_or((0.0, 0.0), |s| (s.open, s.close));
-        let quality = q.quality();
-        let base = load_scene(&a.scene, &setup, q.quiet)?;
+    if !todo.is_empty() {
+        let base = load_scene(&a.scene, &shot.setup, q.quiet)?;
+        let quality = shot.quality;
         // A static scene gets one BVH for the whole run; an animated one is posed per frame.
         let still = if base.animation.is_none() { Some(quality.tracer(&base)?) } else { None };
-        let framing = framing(a, first)?;
+        let framing = shot.framing;
         let camera = carrier_camera(framing.film)?;
         let reader = mcc::LensReader::new(mcc::lens_reader::RaySource::Directory(a.lens_dir.clone()))
-            .with_motion_blur(shutter.1 > shutter.0);
+            .with_motion_blur(shot.motion_blur());
         let mut lenses = LensChain::new();
         lenses.push(Box::new(reader));
-        let shot = ShotBar::new(todo.len() as u64, q.quiet);
-        let bars = shot.frame_bars();
+        let bar = ShotBar::new(todo.len() as u64, q.quiet);
+        let bars = bar.frame_bars();
         for &frame in &todo {
             let posed;
             let tracer = match &still {
                 Some(t) => t,
                 None => {
+                    let setup = &shot.setup;
                     let scene = setup.pose(&base, frame).with_context(|| {
                         format!("posing the scene at frame {frame} ({} s)", setup.frame_seconds(frame))
                     })?;
@@ -162,7 +236,7 @@ pub fn animate(a: &AnimateArgs) -> anyhow::Result<AnimateReport> {
                 name: &name,
                 camera_id: 0,
                 frame,
-                shutter,
+                shutter: shot.shutter,
                 quality,
             };
             let rendered = with_threads(q.threads, || job.run(&mut lenses, &bars))?
@@ -170,36 +244,72 @@ pub fn animate(a: &AnimateArgs) -> anyhow::Result<AnimateReport> {
             let rendered = framing.crop(rendered);
             warn_nonfinite(&name, &rendered);
             let exr = frame_exr(&a.out, frame);
-            let provenance = Provenance {
-                projection: None,
-                environment_map: setup.environment_image.as_ref(),
-                rays_from: Some((LENS_DIR_KEY, &a.lens_dir)),
-            };
-            let info =
-                RenderInfo { shutter, provenance, ..RenderInfo::new(&a.scene, ANIMATED, frame, &quality) };
-            write_render(&exr, &rendered, &info)?;
-            shot.frame_done(&summary(&name, q.spp, &rendered, &exr));
+            let digest = shot.digest(frame)?;
+            write_render(&exr, &rendered, &shot.info(frame, &digest))?;
+            bar.frame_done(&summary(&name, q.spp, &rendered, &exr));
             report.rendered.push(frame);
         }
-        shot.finish();
+        bar.finish();
     }
-    if a.preview == PreviewArg::Gif {
-        let frames = finished_frames(&a.out)?;
-        if !frames.is_empty() {
-            let gif = a.out.join(GIF_NAME);
-            let n = write_gif(&frames, a.fps, &gif)?;
-            if !q.quiet {
-                eprintln!("preview: {n} frames -> {}", gif.display());
+    report.preview = preview(a)?;
+    Ok(report)
+}
+
+/// `--check`: every frame of the range by the resume rule; an error naming every frame that is
+/// not finished, else the preview.
+fn check(shot: &Shot) -> anyhow::Result<AnimateReport> {
+    let a = shot.a;
+    let mut bad = Vec::new();
+    let mut report = AnimateReport::default();
+    for frame in a.frames.range() {
+        let status = match shot.status(frame) {
+            Ok(status) => status.map_err(|why| why.to_string()),
+            Err(e) => Err(format!("{e:#}")),
+        };
+        match status {
+            Ok(()) => report.skipped.push(frame),
+            Err(why) => {
+                eprintln!("frame {frame}: {why}");
+                bad.push(frame);
             }
-            report.preview = Some(gif);
         }
     }
+    if !bad.is_empty() {
+        bail!(
+            "{} of {} frames in {} are not finished: {}",
+            bad.len(),
+            a.frames.len(),
+            a.out.display(),
+            bad.iter().map(u32::to_string).collect::<Vec<_>>().join(", ")
+        );
+    }
+    if !a.quality.quiet {
+        eprintln!("animate --check: all {} frames finished in {}", a.frames.len(), a.out.display());
+    }
+    report.preview = preview(a)?;
     Ok(report)
+}
+
+/// Writes the preview GIF `a` asks for of every finished frame in the output folder.
+fn preview(a: &AnimateArgs) -> anyhow::Result<Option<PathBuf>> {
+    if a.preview != PreviewArg::Gif {
+        return Ok(None);
+    }
+    let frames = finished_frames(&a.out)?;
+    if frames.is_empty() {
+        return Ok(None);
+    }
+    let gif = a.out.join(GIF_NAME);
+    let n = write_gif(&frames, a.fps, &gif)?;
+    if !a.quality.quiet {
+        eprintln!("preview: {n} frames -> {}", gif.display());
+    }
+    Ok(Some(gif))
 }
 
 pub fn run(a: AnimateArgs) -> anyhow::Result<()> {
     let report = animate(&a)?;
-    if !a.quality.quiet {
+    if !a.quality.quiet && !a.check {
         eprintln!(
             "animate: rendered {} frame(s), skipped {} finished -> {}",
             report.rendered.len(),

@@ -190,6 +190,11 @@ pub fn tag_bits(s: &str) -> Result<u8, String> {
     Ok(bits)
 }
 
+/// `--tile I/N`: band I of N horizontal bands (docs/farm.md).
+pub fn tile(s: &str) -> Result<tracer::job::Band, String> {
+    tracer::job::Band::parse(s).map_err(|e| e.to_string())
+}
+
 /// Ray-file encodings, for every command that writes ray files.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum RayFormatArg {

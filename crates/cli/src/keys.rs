@@ -32,7 +32,7 @@ pub struct KeysArgs {
 }
 
 /// A key's collage and optional region image, from `COLLAGE[,REGIONS]`.
-fn split_key(key: &KeyArg) -> anyhow::Result<(PathBuf, Option<PathBuf>)> {
+pub(crate) fn split_key(key: &KeyArg) -> anyhow::Result<(PathBuf, Option<PathBuf>)> {
     match key.value.split_once(',') {
         None => Ok((key.path(), None)),
         Some((collage, regions)) if !collage.is_empty() && !regions.is_empty() => {

@@ -6,9 +6,11 @@ mod animate;
 mod args;
 mod collage;
 mod demo;
+mod farm;
 mod inbetween;
 mod info;
 mod keys;
+mod merge;
 mod preview;
 mod progress;
 mod remap;
@@ -49,6 +51,11 @@ enum Command {
     Keys(keys::KeysArgs),
     /// Render a range of frames through per-frame ray files (resumable; farm-splittable).
     Animate(animate::AnimateArgs),
+    /// Write (and with `slurm --submit`, submit) a whole shot's render-farm jobs: source views,
+    /// keys, the frames in chunks, and a check of every frame.
+    Farm(farm::FarmArgs),
+    /// Assemble the bands of `render --tile` / `rerender --tile` into the whole EXR and PNG.
+    Merge(merge::MergeArgs),
     /// Run the main job on the bundled scene and write every picture to one folder
     /// (--animation: the keyframe workflow, a short animated shot).
     Demo(demo::DemoArgs),
@@ -99,6 +106,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Inbetween(a) => inbetween::run(a),
         Command::Keys(a) => keys::run(a),
         Command::Animate(a) => animate::run(a),
+        Command::Farm(a) => farm::run(a),
+        Command::Merge(a) => merge::run(a),
         Command::Demo(a) => demo::run(a),
     }
 }

@@ -1,5 +1,6 @@
 //! `mcctrace render`: render a scene from one or more cameras (docs/design.md §3, §8), each view
-//! written as EXR + PNG, with the MCC lens writer's rays and the tagger's stamp when asked.
+//! written as EXR + PNG, with the MCC lens writer's rays and the tagger's stamp when asked; or,
+//! with `--tile I/N`, one band of each view (docs/farm.md), skipped when already finished.
 
 use crate::args::RayFormatArg;
 use crate::progress::Bars;
@@ -11,7 +12,7 @@ use anyhow::bail;
 use clap::Args;
 use mcc::job::ViewRender;
 use std::path::PathBuf;
-use tracer::job::{CameraRender, Provenance, SceneSetup};
+use tracer::job::{Band, CameraRender, Provenance, SceneSetup, Stale};
 
 /// Arguments of `mcctrace render`.
 #[derive(Args, Debug)]
@@ -54,6 +55,12 @@ pub struct RenderArgs {
     /// to cut the collage in a layered editor (Krita, GIMP, MyPaint) and remap it as it is.
     #[arg(long, value_name = "FILE.ora")]
     pub layers: Option<PathBuf>,
+    /// Render only band I of N horizontal bands of each view, to NAME.tileIofN.exr beside the
+    /// view's NAME.exr (no PNG); `mcctrace merge` assembles them. A band already finished with
+    /// the same settings is skipped; one past the last row is empty and says so.
+    #[arg(long, value_name = "I/N", value_parser = crate::args::tile,
+          conflicts_with_all = ["lens_writer", "tag", "layers"])]
+    pub tile: Option<Band>,
 }
 
 pub fn run(a: RenderArgs) -> anyhow::Result<()> {
@@ -103,12 +110,33 @@ pub fn run(a: RenderArgs) -> anyhow::Result<()> {
                 projection: Some(view.desc.projection),
                 environment_map: setup.environment_image.as_ref(),
                 rays_from: None,
+                rays_digest: None,
             },
+            setup: Some(&setup),
+            band: a.tile,
         };
+        if let Some(band) = a.tile {
+            let name = &view.desc.name;
+            let rows = job.rows().expect("a band has rows");
+            if rows.is_empty() {
+                eprintln!("{name}: band {band} of a {}-row image is empty: nothing to render", rows.start);
+                continue;
+            }
+            match job.check() {
+                Ok(()) => {
+                    if !q.quiet {
+                        eprintln!("{name}: band {band} finished in {}, skipped", job.target().display());
+                    }
+                    continue;
+                }
+                Err(Stale::Missing(_)) => {}
+                Err(why) => eprintln!("{name}: band {band}: {why}, re-rendering"),
+            }
+        }
         let (rendered, files) = with_threads(q.threads, || job.run(&bars))??;
         warn_nonfinite(&view.desc.name, &rendered);
         if !q.quiet {
-            eprintln!("{}", summary(&view.desc.name, q.spp, &rendered, exr));
+            eprintln!("{}", summary(&view.desc.name, q.spp, &rendered, &files.exr));
             // The ray file is named by the view's frame and id (docs/design.md §4.3), not by --out.
             if let Some(rays) = &files.rays {
                 eprintln!("{}: rays -> {}", view.desc.name, rays.display());

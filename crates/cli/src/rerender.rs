@@ -1,6 +1,6 @@
 //! `mcctrace rerender`: the lens reader (docs/design.md §6, §8): remap a collage (or take a
 //! ready ray file) and render the scene with one ray per pixel from it, at any output
-//! resolution.
+//! resolution; with `--tile I/N`, one band of it (docs/farm.md), skipped when already finished.
 
 use crate::args::RayFormatArg;
 use crate::progress::Bars;
@@ -13,7 +13,7 @@ use anyhow::{Context, bail};
 use clap::Args;
 use mcc::job::Rerender;
 use std::path::{Path, PathBuf};
-use tracer::job::SceneSetup;
+use tracer::job::{Band, SceneSetup, Stale};
 
 /// Arguments of `mcctrace rerender`.
 #[derive(Args, Debug)]
@@ -43,12 +43,18 @@ pub struct RerenderArgs {
     /// Encoding of the saved ray file.
     #[arg(long, value_enum, default_value = "binary")]
     pub ray_format: RayFormatArg,
+    /// Render only band I of N horizontal bands of the output, to NAME.tileIofN.exr beside
+    /// --out NAME.exr (no PNG); `mcctrace merge` assembles them. A band already finished with
+    /// the same settings is skipped; one past the last row is empty and says so.
+    #[arg(long, value_name = "I/N", value_parser = crate::args::tile)]
+    pub tile: Option<Band>,
     #[command(flatten)]
     pub quality: QualityArgs,
 }
 
 /// Renders `scene` (posed at the job's frame at `fps` frames per second) through the job's
-/// rays into `out` and its PNG beside it, which it returns (shared with the demo).
+/// rays into `out` and its PNG beside it, whose path it returns (a band: into its band file,
+/// whose path it returns; shared with the demo).
 pub fn render_through(
     scene: &Path,
     fps: f32,
@@ -68,11 +74,11 @@ pub fn render_through(
     let tracer = job.quality.tracer(&posed)?;
     let rendered = with_threads(q.threads, || job.run(&tracer, &Bars::new(q.quiet)))??;
     warn_nonfinite("rerender", &rendered);
-    let png = job.write(out, &rendered, scene)?;
+    let written = job.write(out, &rendered, scene)?;
     if !q.quiet {
-        eprintln!("{}", summary("rerender", job.quality.spp, &rendered, out));
+        eprintln!("{}", summary("rerender", job.quality.spp, &rendered, &job.target(out)));
     }
-    Ok(png)
+    Ok(written)
 }
 
 pub fn run(a: RerenderArgs) -> anyhow::Result<()> {
@@ -95,8 +101,29 @@ pub fn run(a: RerenderArgs) -> anyhow::Result<()> {
         crop: a.crop,
         quality: q.quality(),
         environment_map: q.scene_setup(a.fps)?.environment_image,
+        setup: Some(q.scene_setup(a.fps)?),
+        band: a.tile,
         ..job
     };
+    if let Some(band) = a.tile {
+        match job.rows() {
+            Some(rows) if rows.is_empty() => {
+                eprintln!("rerender: band {band} of a {}-row image is empty: nothing to render", rows.start);
+                return Ok(());
+            }
+            _ => {}
+        }
+        match job.check(&a.out, &a.scene) {
+            Ok(()) => {
+                if !q.quiet {
+                    eprintln!("rerender: band {band} finished in {}, skipped", job.target(&a.out).display());
+                }
+                return Ok(());
+            }
+            Err(Stale::Missing(_)) => {}
+            Err(why) => eprintln!("rerender: band {band}: {why}, re-rendering"),
+        }
+    }
     if let (Some(res), Some(w)) = (q.res, job.stretch_warning()) {
         eprintln!("warning: --res {res}: {w}");
     }

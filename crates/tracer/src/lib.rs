@@ -21,6 +21,8 @@ pub mod image_io;
 pub mod integrator;
 pub mod interaction;
 pub mod job;
+#[cfg(test)]
+mod lcg;
 pub mod lens;
 pub mod light;
 pub mod material;

@@ -115,6 +115,7 @@ pub(crate) fn run(s: &DemoSettings, shot: &Shot) -> anyhow::Result<()> {
         shutter: None,
         crop: 0,
         preview: PreviewArg::Gif,
+        check: false,
         quality: QualityArgs::with(shot.frame_spp, shot.frame_res, s.threads, true),
     };
     let report = animate(&animate_args)?;

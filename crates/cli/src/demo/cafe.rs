@@ -129,11 +129,15 @@ pub(crate) fn render_tagged_views(
             rays: Some(mcc::RayFormat::Binary),
             tag: Some(mcc::TagCode::default()),
             provenance: Provenance { projection: Some(desc.projection), ..Provenance::default() },
+            setup: None,
+            band: None,
         };
         let (rendered, files) = with_threads(q.threads, || job.run(&bars))??;
         warn_nonfinite(&desc.name, &rendered);
         println!("{}", summary(&desc.name, q.spp, &rendered, &exr));
-        pictures.push((format!("frame {frame} view {} '{}' (tagged)", view.id, desc.name), files.png));
+        pictures.extend(
+            files.png.map(|png| (format!("frame {frame} view {} '{}' (tagged)", view.id, desc.name), png)),
+        );
     }
     Ok(pictures)
 }

@@ -18,6 +18,7 @@ mod view;
 
 pub use remap::{CollageFiles, RemapJob, Remapped};
 pub use rerender::{
-    COLLAGE_KEY, Framing, LENS_DIR_KEY, LENS_FILE_KEY, Rerender, carrier_camera, stretch_warning,
+    COLLAGE_KEY, Framing, LENS_DIR_KEY, LENS_FILE_KEY, Rerender, carrier_camera, lens_dir_digest,
+    stretch_warning,
 };
 pub use view::{ViewFiles, ViewRender};

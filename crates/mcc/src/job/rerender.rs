@@ -1,6 +1,8 @@
 //! The scene rendered through a collage's rays (docs/design.md §6, §8): the lens reader
 //! replaces every eye ray with one from a ray file, in memory or on disk, at any output
-//! resolution, and the overscan border the views were rendered with can be cut off.
+//! resolution, and the overscan border the views were rendered with can be cut off; one band of
+//! the output (`--tile I/N`, docs/farm.md) renders alone, and finished outputs are told from
+//! stale ones.
 
 use crate::error::{MccError, Result};
 use crate::lens_reader::{LensReader, RaySource};
@@ -10,7 +12,10 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use tracer::camera::{Camera, CameraDesc, Projection};
 use tracer::integrator::PathTracer;
-use tracer::job::{CameraRender, EnvironmentImage, Provenance, Quality, RenderInfo, write_render};
+use tracer::job::{
+    Band, CameraRender, EnvironmentImage, Provenance, Quality, RenderInfo, SceneSetup, Stale, check_finished,
+    write_exr, write_render,
+};
 use tracer::lens::LensChain;
 use tracer::render::{Progress, Rendered};
 
@@ -28,6 +33,19 @@ pub const LENS_DIR_KEY: &str = "mcctrace/lens_dir";
 pub fn carrier_camera(resolution: UVec2) -> tracer::Result<Box<dyn Camera>> {
     let projection = Projection::Perspective { fov_y: 1.0 };
     CameraDesc::look_at("lens reader", Vec3::ZERO, -Vec3::Z, Vec3::Y, projection)?.build(resolution)
+}
+
+/// The hash ([`RayFile::digest`]) of the rays frame `frame` of an animation reads from the
+/// folder `dir`: its own ray file's, and with motion blur the next frame's too when there is
+/// one (the lens reader blends the two), joined by `+`.
+pub fn lens_dir_digest(dir: &Path, frame: u32, motion_blur: bool) -> Result<String> {
+    let mut digest = RayFile::read(&crate::names::find_rerender_rays(dir, frame)?)?.digest();
+    if let Some(next) = frame.checked_add(1).filter(|_| motion_blur)
+        && let Some(path) = crate::names::rerender_rays_if_any(dir, next)?
+    {
+        digest = format!("{digest}+{}", RayFile::read(&path)?.digest());
+    }
+    Ok(digest)
 }
 
 /// How the film of a render through a ray file is framed when an overscan border is cut off:
@@ -62,12 +80,20 @@ impl Framing {
     }
 
     /// `rendered` (at the film size) without the border.
-    pub fn crop(&self, mut rendered: Rendered) -> Rendered {
-        if self.border != UVec2::ZERO {
-            rendered.images = rendered
-                .images
-                .without_margins(self.border.x, self.border.y)
-                .expect("the border leaves the output");
+    pub fn crop(&self, rendered: Rendered) -> Rendered {
+        self.crop_margins(rendered, self.border)
+    }
+
+    /// `rendered`, film rows of a band of the output, without the border's columns (its rows
+    /// were never rendered).
+    pub fn crop_band(&self, rendered: Rendered) -> Rendered {
+        self.crop_margins(rendered, UVec2::new(self.border.x, 0))
+    }
+
+    fn crop_margins(&self, mut rendered: Rendered, margins: UVec2) -> Rendered {
+        if margins != UVec2::ZERO {
+            rendered.images =
+                rendered.images.without_margins(margins.x, margins.y).expect("the border leaves the output");
         }
         rendered
     }
@@ -105,6 +131,10 @@ pub struct Rerender {
     pub rays_from: Option<(&'static str, PathBuf)>,
     /// The environment image lighting the scene, recorded in the EXR header.
     pub environment_map: Option<EnvironmentImage>,
+    /// How the scene was set up, recorded in the EXR header.
+    pub setup: Option<SceneSetup>,
+    /// Only this band of the output, written to [`Band::path`] of the output without a PNG.
+    pub band: Option<Band>,
 }
 
 impl Rerender {
@@ -118,6 +148,8 @@ impl Rerender {
             quality: Quality::DEFAULT,
             rays_from: None,
             environment_map: None,
+            setup: None,
+            band: None,
         }
     }
 
@@ -145,13 +177,31 @@ impl Rerender {
         stretch_warning(shown, self.resolution?)
     }
 
+    /// The output rows this job renders (all without a band; empty for a band past the last
+    /// row); `None` when the crop leaves nothing.
+    pub fn rows(&self) -> Option<std::ops::Range<u32>> {
+        let output = self.framing()?.output();
+        Some(self.band.map_or(0..output.y, |b| b.rows(output.y)))
+    }
+
     /// Renders `tracer`'s scene (posed at this frame, prepared with `quality.tracer`) through
-    /// the rays and crops the film. The crop is checked before anything is traced.
+    /// the rays and crops the film (a band: its rows). The crop, and a band past the last row,
+    /// are refused before anything is traced.
     pub fn run(&self, tracer: &PathTracer, progress: &dyn Progress) -> Result<Rendered> {
         let size = self.rays_size();
         let framing = self.framing().ok_or_else(|| {
             MccError::Settings(format!("crop {} leaves nothing of a {}x{} image", self.crop, size.x, size.y))
         })?;
+        let rows = self.rows().expect("the framing exists");
+        if rows.is_empty() {
+            return Err(MccError::Settings(format!(
+                "band {} of a {}-row image is empty (rows {}..{}): nothing to render",
+                self.band.expect("only a band is empty"),
+                framing.output().y,
+                rows.start,
+                rows.end
+            )));
+        }
         let camera = carrier_camera(framing.film)?;
         let mut lenses = LensChain::new();
         lenses.push(Box::new(LensReader::new(RaySource::Rays(Arc::clone(&self.rays)))));
@@ -164,19 +214,67 @@ impl Rerender {
             shutter: (0.0, 0.0),
             quality: self.quality,
         };
-        Ok(framing.crop(job.run(&mut lenses, progress)?))
+        Ok(match self.band {
+            None => framing.crop(job.run(&mut lenses, progress)?),
+            Some(_) => {
+                let film_rows = (rows.start + framing.border.y, rows.end + framing.border.y);
+                framing.crop_band(job.run_rows(&mut lenses, progress, Some(film_rows))?)
+            }
+        })
     }
 
-    /// Writes a finished rerender of `scene` to `exr` and its preview PNG beside it; returns
-    /// the PNG's path.
-    pub fn write(&self, exr: &Path, rendered: &Rendered, scene: &Path) -> Result<PathBuf> {
+    /// The EXR header of this rerender of `scene`, its rays' hash being `digest`
+    /// ([`RayFile::digest`]).
+    fn info<'a>(&'a self, scene: &'a Path, digest: &'a str) -> RenderInfo<'a> {
         let provenance = Provenance {
             projection: None,
             environment_map: self.environment_map.as_ref(),
             rays_from: self.rays_from.as_ref().map(|(key, path)| (*key, path.as_path())),
+            rays_digest: Some(digest),
         };
-        let info = RenderInfo { provenance, ..RenderInfo::new(scene, CAMERA, self.frame, &self.quality) };
-        Ok(write_render(exr, rendered, &info)?)
+        let output = self.framing().map_or(UVec2::ZERO, |f| f.output());
+        RenderInfo {
+            provenance,
+            setup: self.setup.as_ref(),
+            crop: self.crop,
+            band: self.band.map(|b| (b, output)),
+            ..RenderInfo::new(scene, CAMERA, self.frame, &self.quality)
+        }
+    }
+
+    /// The file this job writes its image to for the output `exr`: `exr`, or its band's file.
+    pub fn target(&self, exr: &Path) -> PathBuf {
+        self.band.map_or_else(|| exr.to_path_buf(), |b| b.path(exr))
+    }
+
+    /// `Ok` when the output `exr` of `scene` on disk (its band's file for a band; the PNG too
+    /// for the whole image) is a finished render of this job (docs/farm.md), so it can be
+    /// skipped; else why not.
+    pub fn check(&self, exr: &Path, scene: &Path) -> std::result::Result<(), Stale> {
+        let digest = self.rays.digest();
+        let (Some(framing), Some(rows)) = (self.framing(), self.rows()) else {
+            return Err(Stale::Missing(self.target(exr)));
+        };
+        let size = UVec2::new(framing.output().x, rows.len() as u32);
+        let png = exr.with_extension("png");
+        let png = self.band.is_none().then_some(png.as_path());
+        check_finished(&self.target(exr), png, &self.info(scene, &digest).settings(), size)
+    }
+
+    /// Writes a finished rerender of `scene` for the output `exr`: the EXR and its preview PNG
+    /// beside it, whose path it returns, or for a band the band's file alone, whose path it
+    /// returns.
+    pub fn write(&self, exr: &Path, rendered: &Rendered, scene: &Path) -> Result<PathBuf> {
+        let digest = self.rays.digest();
+        let info = self.info(scene, &digest);
+        match self.band {
+            None => Ok(write_render(exr, rendered, &info)?),
+            Some(band) => {
+                let path = band.path(exr);
+                write_exr(&path, rendered, &info)?;
+                Ok(path)
+            }
+        }
     }
 }
 

@@ -1,6 +1,7 @@
 //! A view rendered to files (docs/design.md §4.3, §4.4, §4.7, §8): a camera's render written as EXR
 //! and PNG, with the lens writer recording its pixel-centre rays beside them and the tagger
-//! stamping the view's number into the PNG when asked (what `render --lens-writer --tag` makes).
+//! stamping the view's number into the PNG when asked (what `render --lens-writer --tag` makes),
+//! or one band of it (`render --tile I/N`, docs/farm.md), and told finished when it is.
 
 use crate::error::{MccError, Result};
 use crate::lens_writer::LensWriter;
@@ -10,7 +11,9 @@ use crate::tag::TagCode;
 use std::path::{Path, PathBuf};
 use tracer::image::RgbImage;
 use tracer::image_io::{linear_to_srgb8, write_png_rgb8};
-use tracer::job::{CameraRender, Provenance, RenderInfo, write_exr, write_render};
+use tracer::job::{
+    Band, CameraRender, Provenance, RenderInfo, SceneSetup, Stale, check_finished, write_exr, write_render,
+};
 use tracer::lens::LensChain;
 use tracer::render::{Progress, Rendered};
 
@@ -29,6 +32,11 @@ pub struct ViewRender<'a> {
     pub tag: Option<TagCode>,
     /// The camera model and environment image, for the EXR header.
     pub provenance: Provenance<'a>,
+    /// How the scene was set up, for the EXR header.
+    pub setup: Option<&'a SceneSetup>,
+    /// Only this band of the view, written to [`Band::path`] of `exr` without a PNG (no rays,
+    /// no tag: those need the whole view).
+    pub band: Option<Band>,
 }
 
 /// The files a [`ViewRender`] wrote.
@@ -36,41 +44,93 @@ pub struct ViewRender<'a> {
 pub struct ViewFiles {
     /// The EXR.
     pub exr: PathBuf,
-    /// The PNG beside it (tagged or a plain preview).
-    pub png: PathBuf,
+    /// The PNG beside it (tagged or a plain preview); none for a band.
+    pub png: Option<PathBuf>,
     /// The ray file, if recorded.
     pub rays: Option<PathBuf>,
 }
 
 impl ViewRender<'_> {
+    /// The EXR header this view's file records.
+    pub fn info(&self) -> RenderInfo<'_> {
+        let res = self.render.camera.resolution();
+        RenderInfo {
+            shutter: self.render.shutter,
+            provenance: self.provenance,
+            setup: self.setup,
+            band: self.band.map(|b| (b, res)),
+            ..RenderInfo::new(self.scene, self.render.name, self.render.frame, &self.render.quality)
+        }
+    }
+
+    /// The file this job writes its image to: the EXR, or its band's file.
+    pub fn target(&self) -> PathBuf {
+        self.band.map_or_else(|| self.exr.to_path_buf(), |b| b.path(self.exr))
+    }
+
+    /// The rows of the view this job renders, `None` for all; `Some` empty for a band past the
+    /// last row (nothing to render).
+    pub fn rows(&self) -> Option<std::ops::Range<u32>> {
+        self.band.map(|b| b.rows(self.render.camera.resolution().y))
+    }
+
+    /// `Ok` when the view's files on disk are a finished render of this job (docs/farm.md), so it
+    /// can be skipped; else why not. Rays and tags are not checked: a job asking for them is
+    /// never skipped by a caller that asks this first.
+    pub fn check(&self) -> std::result::Result<(), Stale> {
+        let res = self.render.camera.resolution();
+        let size = self.rows().map_or(res, |r| glam::UVec2::new(res.x, r.len() as u32));
+        let png = self.exr.with_extension("png");
+        let target = self.target();
+        check_finished(&target, self.band.is_none().then_some(png.as_path()), &self.info().settings(), size)
+    }
+
     /// Renders the view and writes its files; returns the render and what was written.
     pub fn run(&self, progress: &dyn Progress) -> Result<(Rendered, ViewFiles)> {
         let id = self.render.camera_id;
         if let Some(code) = self.tag {
             code.check_id(id)?;
         }
+        if let Some(band) = self.band.filter(|_| self.rays.is_some() || self.tag.is_some()) {
+            return Err(MccError::Settings(format!(
+                "band {band}: the lens writer's rays and the camera tag need the whole view; render it \
+                 without --tile"
+            )));
+        }
         let dir = self.exr.parent().map(Path::to_path_buf).unwrap_or_default();
         let mut lenses = LensChain::new();
         if let Some(format) = self.rays {
             lenses.push(Box::new(LensWriter::new(&dir, format)));
         }
-        let rendered = self.render.run(&mut lenses, progress)?;
-        let info = RenderInfo {
-            shutter: self.render.shutter,
-            provenance: self.provenance,
-            ..RenderInfo::new(self.scene, self.render.name, self.render.frame, &self.render.quality)
-        };
-        let png = match self.tag {
-            None => write_render(self.exr, &rendered, &info)?,
-            Some(code) => {
+        let rows = self.rows();
+        if let Some(rows) = rows.as_ref().filter(|r| r.is_empty()) {
+            let res = self.render.camera.resolution();
+            return Err(MccError::Settings(format!(
+                "band {} of a {}-row image is empty (rows {}..{}): nothing to render",
+                self.band.expect("rows come from a band"),
+                res.y,
+                rows.start,
+                rows.end
+            )));
+        }
+        let rendered = self.render.run_rows(&mut lenses, progress, rows.map(|r| (r.start, r.end)))?;
+        let info = self.info();
+        let target = self.target();
+        let png = match (self.band, self.tag) {
+            (Some(_), _) => {
+                write_exr(&target, &rendered, &info)?;
+                None
+            }
+            (None, None) => Some(write_render(self.exr, &rendered, &info)?),
+            (None, Some(code)) => {
                 write_exr(self.exr, &rendered, &info)?;
                 let png = self.exr.with_extension("png");
                 write_tagged_png(&png, &rendered.images.image, code, id)?;
-                png
+                Some(png)
             }
         };
         let rays = self.rays.map(|format| dir.join(view_rays_name(self.render.frame, id, format)));
-        Ok((rendered, ViewFiles { exr: self.exr.to_path_buf(), png, rays }))
+        Ok((rendered, ViewFiles { exr: target, png, rays }))
     }
 }
 
@@ -122,13 +182,15 @@ mod tests {
             rays: Some(RayFormat::Text),
             tag: Some(code),
             provenance: Provenance::default(),
+            setup: None,
+            band: None,
         };
         let (rendered, files) = job.run(&NoProgress).unwrap();
         assert!(rendered.images.image.pixels.iter().all(|p| *p == sky));
-        assert_eq!(files.png, dir.join("views/frame0003camera05.png"));
+        assert_eq!(files.png, Some(dir.join("views/frame0003camera05.png")));
         assert_eq!(files.rays.as_deref(), Some(dir.join("views/frame0003camera05.txt").as_path()));
         assert!(files.exr.is_file());
-        let png = crate::png::read_image(&files.png).unwrap().to_rgb8();
+        let png = crate::png::read_image(files.png.as_ref().unwrap()).unwrap().to_rgb8();
         assert!(png.pixels().all(|p| code.decode(p.0) == 5));
         let rays = RayFile::read(files.rays.as_ref().unwrap()).unwrap();
         let centre = camera.generate_ray(&CameraSample::pixel_centre(7, 2, 3.0)).unwrap();
@@ -138,7 +200,7 @@ mod tests {
         let plain = ViewRender { rays: None, tag: None, exr: &dir.join("plain.exr"), ..job };
         let (_, files) = plain.run(&NoProgress).unwrap();
         assert_eq!(files.rays, None);
-        let png = crate::png::read_image(&files.png).unwrap().to_rgb8();
+        let png = crate::png::read_image(files.png.as_ref().unwrap()).unwrap().to_rgb8();
         let srgb = sky.to_array().map(tracer::image_io::linear_to_srgb8);
         assert!(png.pixels().all(|p| p.0 == srgb));
         let bad = ViewRender { render: CameraRender { camera_id: 64, ..render }, ..job };

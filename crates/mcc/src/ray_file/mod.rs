@@ -147,6 +147,24 @@ pub struct RayFile {
 }
 
 impl RayFile {
+    /// A SHA-256 of the size and the rays (their f32 bits, little-endian), in hex: the same for
+    /// the same rays whichever file format held them (docs/farm.md).
+    pub fn digest(&self) -> String {
+        use sha2::{Digest, Sha256};
+        let mut hash = Sha256::new();
+        hash.update(self.width.to_le_bytes());
+        hash.update(self.height.to_le_bytes());
+        let mut bytes = Vec::with_capacity(24 << 12);
+        for chunk in self.rays.chunks(1 << 12) {
+            bytes.clear();
+            let values =
+                chunk.iter().flat_map(|r| r.origin.to_array().into_iter().chain(r.direction.to_array()));
+            bytes.extend(values.flat_map(f32::to_le_bytes));
+            hash.update(&bytes);
+        }
+        hash.finalize().iter().map(|b| format!("{b:02x}")).collect()
+    }
+
     /// A ray file from its parts; `rays` must hold exactly `width × height` rays.
     pub fn new(width: u32, height: u32, frame: u32, camera_id: u32, rays: Vec<StoredRay>) -> Result<Self> {
         check_size(width, height).map_err(|m| MccError::input("ray file", m))?;

@@ -230,6 +230,12 @@ impl Bsdf {
         self.frame.z
     }
 
+    /// The geometric normal facing wo: the BSDF is zero for light arriving from behind it.
+    #[inline]
+    pub fn geometric_normal(&self) -> Vec3 {
+        self.ng
+    }
+
     /// f(wo, wi) and the density of sampling `wi` (world, unit) for this wo.
     // Always inlined, as `eval_local`: out of line, the BSDF went through memory for the call
     // (docs/performance.md, ledger: "`Bsdf::eval` always inlined").

@@ -2,6 +2,7 @@
 //! cannot hit, obvhs's traps.
 
 use super::*;
+use crate::lcg::Lcg;
 use crate::scene::MeshPart;
 use crate::triangle::safe_reciprocal;
 use glam::Vec3;
@@ -20,18 +21,6 @@ fn brute_closest(tris: &[[Vec3; 3]], o: Vec3, d: Vec3) -> Option<(usize, f32)> {
         .enumerate()
         .filter_map(|(i, t)| wray.intersect(&t.map(|p| p.to_array()), f32::INFINITY).map(|h| (i, h.t)))
         .min_by(|a, b| a.1.total_cmp(&b.1))
-}
-
-/// A deterministic little generator for test inputs.
-struct Lcg(u64);
-impl Lcg {
-    fn next(&mut self) -> f32 {
-        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        ((self.0 >> 40) as f32) / (1u64 << 24) as f32
-    }
-    fn vec(&mut self) -> Vec3 {
-        Vec3::new(self.next(), self.next(), self.next()) * 2.0 - Vec3::ONE
-    }
 }
 
 /// The BVH answers exactly like testing every triangle, at scene scales 1e-4 … 1e4, and at

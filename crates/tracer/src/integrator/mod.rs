@@ -1,6 +1,6 @@
 //! Unidirectional path tracing (docs/design.md §3.3; pbrt-v4 §13.4 `PathIntegrator`): at each
-//! scattering vertex, next-event estimation towards one light chosen by power, plus a BSDF
-//! sample that continues the path; both estimators of direct light (emissive triangles, the
+//! scattering vertex, next-event estimation towards one light chosen by its importance there
+//! (a light tree), plus a BSDF sample that continues the path; both estimators of direct light (emissive triangles, the
 //! environment image) are combined by multiple importance sampling with the power heuristic.
 //! Delta events (glass, punctual lights) take no MIS. Transmissive materials are a mixture:
 //! with probability transmission × (1 − metallic) the hit is a smooth dielectric interface,
@@ -35,6 +35,8 @@ use crate::bsdf::BsdfParams;
 use crate::bvh::{Bvh, Hit};
 use crate::error::{Result, TracerError};
 use crate::interaction::SurfaceInteraction;
+#[cfg(any(test, feature = "test-support"))]
+use crate::light::LightChoice;
 use crate::light::LightSampler;
 use crate::material::Material;
 use crate::ray::Ray;
@@ -229,6 +231,15 @@ impl PathTracer {
     #[cfg(any(test, feature = "test-support"))]
     pub fn without_lambert_path(mut self) -> Self {
         self.lambert_only = false;
+        self
+    }
+
+    /// Test and benchmark hook: lights chosen by the tree or by power alone, whatever the
+    /// scene would take (`benches/lights.rs` measures the two against each other).
+    #[doc(hidden)]
+    #[cfg(any(test, feature = "test-support"))]
+    pub fn with_light_choice(mut self, choice: LightChoice, scene: &Scene) -> Self {
+        self.lights = self.lights.choosing(choice, scene);
         self
     }
 

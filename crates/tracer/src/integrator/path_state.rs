@@ -63,6 +63,10 @@ pub(super) struct PathState {
     beta: Vec3,
     /// The BSDF density of `ray`'s direction, to weigh the emission it finds by MIS.
     prev_pdf: f32,
+    /// Where `ray` left and the geometric normal there facing it: the receiver for which light
+    /// sampling would have chosen the emitter `ray` finds (its MIS weight).
+    prev_p: Vec3,
+    prev_n: Vec3,
     /// `ray` left a delta event (glass): the emission it finds takes no MIS weight.
     specular: bool,
     /// Scattering vertices behind the path (0: `ray` is the camera ray).
@@ -107,6 +111,8 @@ impl PathState {
             ray,
             beta: Vec3::ONE,
             prev_pdf: 0.0,
+            prev_p: Vec3::ZERO,
+            prev_n: Vec3::ZERO,
             specular: false,
             depth: 0,
             leaving: Leaving::NOTHING,
@@ -173,7 +179,8 @@ impl PathState {
             if self.depth == 0 || self.specular {
                 out.radiance += self.beta * sp.emission;
             } else {
-                let light_pdf = tracer.lights.pdf_triangle(hit.triangle, hit.t, ray.direction);
+                let light_pdf =
+                    tracer.lights.pdf_triangle(self.prev_p, self.prev_n, hit.triangle, hit.t, ray.direction);
                 out.radiance += self.beta * sp.emission * power_heuristic(self.prev_pdf, light_pdf);
             }
         }
@@ -245,6 +252,8 @@ impl PathState {
             self.u_light = u_next;
             self.beta *= bs.f * (bs.cos / bs.pdf);
             self.prev_pdf = bs.pdf;
+            self.prev_p = v.si.p;
+            self.prev_n = bsdf.geometric_normal();
             self.specular = false;
             self.ray = next_ray;
         }
@@ -266,7 +275,8 @@ impl PathState {
         true
     }
 
-    /// Next-event estimation at `v`: one light sample (chosen by power), its shadow ray, and its
+    /// Next-event estimation at `v`: one light sample (chosen for the point and the side its
+    /// BSDF can receive light on), its shadow ray, and its
     /// contribution through `bsdf`, weighted by MIS against the BSDF sample unless the light is
     /// a delta light or `light_only` (the BSDF sample was skipped).
     #[inline(always)]
@@ -280,9 +290,9 @@ impl PathState {
     ) {
         let si = &v.si;
         let ls = if LAMBERT {
-            tracer.lights.sample_triangles(si.p, self.u_light)
+            tracer.lights.sample_triangles(si.p, bsdf.geometric_normal(), self.u_light)
         } else {
-            tracer.lights.sample(si.p, self.u_light)
+            tracer.lights.sample(si.p, bsdf.geometric_normal(), self.u_light)
         };
         let Some(ls) = ls else { return };
         let (f, bsdf_pdf) = bsdf.eval(ls.wi);

@@ -6,7 +6,7 @@ use crate::camera::Camera;
 use crate::error::{Result, TracerError};
 use crate::integrator::PathTracer;
 use crate::lens::LensChain;
-use crate::render::{Progress, Rendered, render};
+use crate::render::{Progress, RenderSettings, Rendered, render};
 
 /// What to render: `camera` over `tracer`'s scene (prepared with `quality.tracer`), as view
 /// `camera_id` of `frame`.
@@ -32,9 +32,22 @@ impl CameraRender<'_> {
     /// Renders through `lenses`, reporting the samples to `progress` as one stage named after
     /// the camera. Errors name the camera; a cancelled render is [`TracerError::Cancelled`].
     pub fn run(&self, lenses: &mut LensChain, progress: &dyn Progress) -> Result<Rendered> {
-        let settings = self.quality.settings(self.frame, self.camera_id, self.shutter);
+        self.run_rows(lenses, progress, None)
+    }
+
+    /// Like [`CameraRender::run`], for the film rows `rows` only (`start..end`; `None`: all):
+    /// a band of the image, each pixel as the whole render computes it (docs/farm.md).
+    pub fn run_rows(
+        &self,
+        lenses: &mut LensChain,
+        progress: &dyn Progress,
+        rows: Option<(u32, u32)>,
+    ) -> Result<Rendered> {
+        let settings =
+            RenderSettings { rows, ..self.quality.settings(self.frame, self.camera_id, self.shutter) };
         let res = self.camera.resolution();
-        progress.begin(self.name, res.x as u64 * res.y as u64 * self.quality.spp as u64);
+        let height = rows.map_or(res.y, |(a, b)| b.saturating_sub(a));
+        progress.begin(self.name, res.x as u64 * height as u64 * self.quality.spp as u64);
         let rendered = render(self.tracer, self.camera, lenses, &settings, progress);
         progress.finish();
         rendered.map_err(|e| match e {

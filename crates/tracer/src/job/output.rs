@@ -1,7 +1,7 @@
 //! A finished render written out (docs/design.md §3.6): linear EXR with the settings in its header
 //! and optional AOV layers, and an sRGB PNG preview beside it, both atomically.
 
-use super::{EnvironmentImage, Quality};
+use super::{Band, EnvironmentImage, Quality, SceneSetup};
 use crate::camera::Projection;
 use crate::error::Result;
 use crate::image_io::{Aov, write_exr as write_exr_file, write_png_srgb};
@@ -19,7 +19,14 @@ pub struct Provenance<'a> {
     /// Where the eye rays came from, as a header key (`mcctrace/…`, named by the workflow: the
     /// collage or lens file of a rerender) and its file.
     pub rays_from: Option<(&'a str, &'a Path)>,
+    /// A content hash of those rays (`mcctrace/rays_sha256`), so a changed lens file is told
+    /// from the same one when a run resumes (docs/farm.md).
+    pub rays_digest: Option<&'a str>,
 }
+
+/// Header keys of the render's counts, which differ between runs of the same settings (the
+/// seconds) or add up over bands: not settings, so resuming does not compare them.
+pub const COUNT_KEYS: [&str; 3] = ["mcctrace/seconds", "mcctrace/rays", "mcctrace/samples"];
 
 /// What the EXR header records besides the pixels.
 #[derive(Clone, Copy, Debug)]
@@ -36,13 +43,29 @@ pub struct RenderInfo<'a> {
     pub shutter: (f32, f32),
     /// Camera model, environment image, ray source.
     pub provenance: Provenance<'a>,
+    /// How the scene was set up (frame rate, environment and falloff overrides), if known.
+    pub setup: Option<&'a SceneSetup>,
+    /// The border cut from the film (`--crop`), in input pixels; 0: none.
+    pub crop: u32,
+    /// The band this file holds, and the whole image's size; `None`: the whole image.
+    pub band: Option<(Band, glam::UVec2)>,
 }
 
 impl<'a> RenderInfo<'a> {
     /// The header of frame `frame` of `scene` through `camera` at `quality`: shutter closed,
     /// nothing more known.
     pub fn new(scene: &'a Path, camera: &'a str, frame: u32, quality: &'a Quality) -> Self {
-        Self { scene, camera, frame, quality, shutter: (0.0, 0.0), provenance: Provenance::default() }
+        Self {
+            scene,
+            camera,
+            frame,
+            quality,
+            shutter: (0.0, 0.0),
+            provenance: Provenance::default(),
+            setup: None,
+            crop: 0,
+            band: None,
+        }
     }
 
     /// The `mcctrace/…` header attributes besides the render's counts (docs/design.md §3.6):
@@ -58,6 +81,7 @@ impl<'a> RenderInfo<'a> {
             ("mcctrace/rr_depth", q.rr_depth.to_string()),
             ("mcctrace/split", q.split.to_string()),
             ("mcctrace/adaptive", q.adaptive.to_string()),
+            ("mcctrace/aovs", q.aovs.to_string()),
             ("mcctrace/frame", self.frame.to_string()),
             ("mcctrace/shutter", format!("{}..{}", self.shutter.0, self.shutter.1)),
         ];
@@ -72,6 +96,24 @@ impl<'a> RenderInfo<'a> {
         }
         if let Some((key, path)) = p.rays_from {
             out.push((key, path.display().to_string()));
+        }
+        if let Some(digest) = p.rays_digest {
+            out.push(("mcctrace/rays_sha256", digest.to_owned()));
+        }
+        if let Some(setup) = self.setup {
+            out.push(("mcctrace/fps", setup.fps.to_string()));
+            if let Some(c) = setup.environment {
+                out.push(("mcctrace/environment", format!("{},{},{}", c.x, c.y, c.z)));
+            }
+            if let Some(falloff) = setup.spot_falloff {
+                out.push(("mcctrace/spot_falloff", format!("{falloff:?}")));
+            }
+        }
+        if self.crop > 0 {
+            out.push(("mcctrace/crop", self.crop.to_string()));
+        }
+        if let Some((band, size)) = self.band {
+            out.extend(band.header(size.x, size.y));
         }
         out
     }
@@ -97,11 +139,12 @@ pub fn describe_projection(p: &Projection) -> String {
 pub fn write_exr(path: &Path, rendered: &Rendered, info: &RenderInfo<'_>) -> Result<()> {
     let (images, q) = (&rendered.images, info.quality);
     let mut metadata = info.settings();
-    metadata.extend([
-        ("mcctrace/seconds", format!("{:.6}", rendered.stats.seconds)),
-        ("mcctrace/rays", rendered.stats.rays.to_string()),
-        ("mcctrace/samples", rendered.stats.samples.to_string()),
-    ]);
+    let s = &rendered.stats;
+    metadata.extend(COUNT_KEYS.into_iter().zip([
+        format!("{:.6}", s.seconds),
+        s.rays.to_string(),
+        s.samples.to_string(),
+    ]));
     let layers: Vec<Aov<'_>> = if q.aovs {
         vec![
             Aov::Rgb { name: "albedo", image: &images.albedo },
@@ -150,6 +193,7 @@ mod tests {
                 projection: Some(Projection::ThinLens { fov_y: 0.5, lens_radius: 0.05, focus_distance: 2.5 }),
                 environment_map: Some(&env),
                 rays_from: Some(("mcctrace/lens_file", &lens)),
+                rays_digest: Some("abc"),
             },
             ..RenderInfo::new(scene, "left", 2, &quality)
         };

@@ -67,6 +67,7 @@ impl Quality {
             shutter,
             aovs: self.aovs,
             adaptive: self.adaptive,
+            rows: None,
         }
     }
 }

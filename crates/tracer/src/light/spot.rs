@@ -2,6 +2,7 @@
 //! to the outer cone, by Blender Cycles' falloff (what Blender-exported scenes were lit with) or
 //! the glTF specification's recommended one (docs/design.md §3.10).
 
+use super::bounds::{LightBounds, cos_down};
 use crate::scene::SpotFalloff;
 use glam::Vec3;
 
@@ -63,6 +64,27 @@ impl SpotLight {
                 let t = ((cos - self.cos_outer) * scale).clamp(0.0, 1.0);
                 t * t
             }
+        }
+    }
+
+    /// Its bounds for the light tree: full intensity within θo of the axis (where the falloff
+    /// reaches 1), fading out over θe more, to the outer cone.
+    pub fn bounds(&self) -> LightBounds {
+        let cos_outer = self.cos_outer as f64;
+        let cos_full = match self.falloff {
+            SpotFalloff::Blender => cos_outer + (1.0 - cos_outer) * self.blend as f64,
+            SpotFalloff::Gltf => cos_outer + (self.cos_inner as f64 - cos_outer).max(0.001),
+        };
+        let theta_o = cos_full.clamp(-1.0, 1.0).acos();
+        let theta_e = (cos_outer.clamp(-1.0, 1.0).acos() - theta_o).max(0.0);
+        LightBounds {
+            lo: self.position,
+            hi: self.position,
+            w: self.direction,
+            intensity: super::triangle::luminance(self.intensity),
+            cos_theta_o: cos_down(theta_o),
+            cos_theta_e: cos_down(theta_e),
+            two_sided: false,
         }
     }
 

@@ -1,6 +1,7 @@
 //! An emissive triangle as a light: uniform area sampling (Heitz's low-distortion warp keeps
 //! the 2-D stratification), converted to solid angle at the receiver (pbrt-v4 §12.3).
 
+use super::bounds::LightBounds;
 use crate::sampling::sample_uniform_triangle;
 use crate::triangle::gamma;
 use glam::{Vec2, Vec3};
@@ -54,6 +55,21 @@ impl EmissiveTriangle {
     pub fn power(&self) -> f64 {
         let sides = if self.two_sided { 2.0 } else { 1.0 };
         luminance(self.radiance) as f64 * self.area as f64 * std::f64::consts::PI * sides
+    }
+
+    /// Its bounds for the light tree: the corners' box, the normal (both ways if two-sided), and
+    /// the largest intensity, L·A, straight along the normal.
+    pub fn bounds(&self) -> LightBounds {
+        let [a, b, c] = self.p;
+        LightBounds {
+            lo: a.min(b).min(c),
+            hi: a.max(b).max(c),
+            w: self.n,
+            intensity: luminance(self.radiance) * self.area,
+            cos_theta_o: 1.0,
+            cos_theta_e: 0.0,
+            two_sided: self.two_sided,
+        }
     }
 
     /// A uniformly distributed point on the triangle.

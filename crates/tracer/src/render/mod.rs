@@ -46,12 +46,24 @@ pub struct RenderSettings {
     /// per pixel, a quarter of it taken everywhere and the rest where the relative noise is
     /// highest.
     pub adaptive: bool,
+    /// Only the film rows `start..end` (a band of the image, docs/farm.md): the film returned
+    /// holds those rows, each pixel exactly as a whole render computes it; `None`: every row.
+    pub rows: Option<(u32, u32)>,
 }
 
 impl RenderSettings {
     /// A still render at `spp` samples per pixel, seed 0, frame 0, camera 1.
     pub const fn still(spp: u32) -> Self {
-        Self { spp, seed: 0, frame: 0, camera_id: 1, shutter: (0.0, 0.0), aovs: false, adaptive: false }
+        Self {
+            spp,
+            seed: 0,
+            frame: 0,
+            camera_id: 1,
+            shutter: (0.0, 0.0),
+            aovs: false,
+            adaptive: false,
+            rows: None,
+        }
     }
 }
 
@@ -132,6 +144,13 @@ pub fn render(
             res.x, res.y
         )));
     }
+    let (first, end) = settings.rows.unwrap_or((0, res.y));
+    if first >= end || end > res.y {
+        return Err(TracerError::Settings(format!(
+            "rows {first}..{end} of a {}x{} film: must be a non-empty range inside it",
+            res.x, res.y
+        )));
+    }
     let (open, close) = settings.shutter;
     if !(open.is_finite() && close.is_finite() && open <= close) {
         return Err(TracerError::Settings(format!(
@@ -148,30 +167,53 @@ pub fn render(
     let (pixels, rays) = {
         let generator = lenses.generator(camera);
         let lens = camera.uses_lens();
-        let trace = |pass: &Pass| {
+        let trace = |pass: &Pass, rows: (u32, u32), p: &dyn Progress| {
             // Specialised loops: no AOV bookkeeping without AOVs, no alpha tests without
             // alpha-tested materials, and the Lambert-only path where every surface is an
             // untextured, flat-shaded Lambertian lit by triangles (never with alpha tests).
-            let (g, s, p) = (&generator, settings, progress);
+            let (g, s) = (&generator, settings);
+            let job = FilmPass { tracer, generator: g, uses_lens: lens, res, rows, settings: s, pass };
             match (settings.aovs, tracer.has_alpha(), tracer.lambert_only()) {
-                (true, true, _) => trace_film::<true, true, false>(tracer, g, lens, res, s, pass, p),
-                (true, false, true) => trace_film::<true, false, true>(tracer, g, lens, res, s, pass, p),
-                (true, false, false) => trace_film::<true, false, false>(tracer, g, lens, res, s, pass, p),
-                (false, true, _) => trace_film::<false, true, false>(tracer, g, lens, res, s, pass, p),
-                (false, false, true) => trace_film::<false, false, true>(tracer, g, lens, res, s, pass, p),
-                (false, false, false) => trace_film::<false, false, false>(tracer, g, lens, res, s, pass, p),
+                (true, true, _) => job.trace::<true, true, false>(p),
+                (true, false, true) => job.trace::<true, false, true>(p),
+                (true, false, false) => job.trace::<true, false, false>(p),
+                (false, true, _) => job.trace::<false, true, false>(p),
+                (false, false, true) => job.trace::<false, false, true>(p),
+                (false, false, false) => job.trace::<false, false, false>(p),
             }
         };
         match adaptive::pilot_spp(settings.spp).filter(|_| settings.adaptive) {
-            None => trace(&Pass { start: 0, ends: Ends::All(settings.spp), previous: None }),
+            None => trace(
+                &Pass { start: 0, ends: Ends::All(settings.spp), previous: None },
+                (first, end),
+                progress,
+            ),
             Some(pilot) => {
-                let (film, pilot_rays) = trace(&Pass { start: 0, ends: Ends::All(pilot), previous: None });
+                // The counts are a function of the whole pilot film (its noise total, the carry
+                // from pixel to pixel), so a band takes the pilot everywhere; only its own rows'
+                // pilot counts as its work (rays, progress), so the bands' counts add up to the
+                // whole render's.
+                let pass = Pass { start: 0, ends: Ends::All(pilot), previous: None };
+                let outside = Unreported(progress);
+                let (mut film, pilot_rays) = trace(&pass, (first, end), progress);
+                if first > 0 {
+                    let (above, _) = trace(&pass, (0, first), &outside);
+                    film.splice(0..0, above);
+                }
+                if end < res.y {
+                    film.extend(trace(&pass, (end, res.y), &outside).0);
+                }
                 if progress.cancelled() {
                     return Err(TracerError::Cancelled);
                 }
                 let counts = adaptive::sample_counts(&film, res.x, res.y, settings.spp, most_spp);
-                let pass = Pass { start: pilot, ends: Ends::PerPixel(&counts), previous: Some(&film) };
-                let (film, rays) = trace(&pass);
+                let band = (first * res.x) as usize..(end * res.x) as usize;
+                let pass = Pass {
+                    start: pilot,
+                    ends: Ends::PerPixel(&counts[band.clone()]),
+                    previous: Some(&film[band]),
+                };
+                let (film, rays) = trace(&pass, (first, end), progress);
                 (film, pilot_rays + rays)
             }
         }
@@ -184,7 +226,7 @@ pub fn render(
     }
     lenses.end_frame(camera, frame)?;
 
-    let film = Film::new(res.x, res.y, pixels);
+    let film = Film::new(res.x, end - first, pixels);
     let stats = RenderStats {
         seconds,
         samples: film.samples(),
@@ -196,7 +238,8 @@ pub fn render(
 }
 
 /// The samples one pass over the film takes: each pixel's indices `start` .. its end, added
-/// to its accumulator from `previous` (row-major) if there is one.
+/// to its accumulator from `previous` if there is one (`ends` and `previous` are row-major over
+/// the pass's rows).
 struct Pass<'a> {
     start: u32,
     ends: Ends<'a>,
@@ -211,62 +254,84 @@ enum Ends<'a> {
     PerPixel(&'a [u32]),
 }
 
-/// Traces one pass over every pixel; returns the accumulators in row-major order and the ray
-/// count.
-fn trace_film<const AOV: bool, const ALPHA: bool, const LAMBERT: bool>(
-    tracer: &PathTracer,
-    generator: &dyn RayGenerator,
+/// A progress sink that passes cancellation on but reports no work: the pilot pass a band
+/// takes outside its rows.
+struct Unreported<'a>(&'a dyn Progress);
+
+impl Progress for Unreported<'_> {
+    fn advance(&self, _samples: u64) {}
+    fn cancelled(&self) -> bool {
+        self.0.cancelled()
+    }
+}
+
+/// One pass over the film rows `rows` (`start..end`).
+struct FilmPass<'a> {
+    tracer: &'a PathTracer,
+    generator: &'a dyn RayGenerator,
     uses_lens: bool,
     res: UVec2,
-    settings: &RenderSettings,
-    pass: &Pass,
-    progress: &dyn Progress,
-) -> (Vec<PixelAccumulator>, u64) {
-    let tiles_x = res.x.div_ceil(TILE);
-    let tiles_y = res.y.div_ceil(TILE);
-    let frame_time = settings.frame as f32 + settings.shutter.0;
-    let shutter_length = settings.shutter.1 - settings.shutter.0;
-    // Pinhole cameras and instantaneous shutters draw no lens or time numbers.
-    let needs_lens_time = uses_lens || shutter_length > 0.0;
-    let job = TileJob {
-        tracer,
-        generator,
-        res,
-        tiles_x,
-        settings,
-        pass,
-        frame_time,
-        shutter_length,
-        needs_lens_time,
-    };
-    let level = cpu::level();
-    let tiles: Vec<(Vec<PixelAccumulator>, u64)> = (0..tiles_x * tiles_y)
-        .into_par_iter()
-        .map(|tile| {
-            if progress.cancelled() {
-                return (Vec::new(), 0);
-            }
-            let (accs, rays, samples) = cpu::trace_tile::<AOV, ALPHA, LAMBERT>(level, &job, tile);
-            progress.advance(samples);
-            (accs, rays)
-        })
-        .collect();
+    rows: (u32, u32),
+    settings: &'a RenderSettings,
+    pass: &'a Pass<'a>,
+}
 
-    // Scatter tiles into row-major order.
-    let mut pixels = vec![PixelAccumulator::default(); res.x as usize * res.y as usize];
-    let mut rays = 0;
-    for (tile, (accs, tile_rays)) in tiles.into_iter().enumerate() {
-        rays += tile_rays;
-        let tile = tile as u32;
-        let x0 = (tile % tiles_x) * TILE;
-        let y0 = (tile / tiles_x) * TILE;
-        let w = (x0 + TILE).min(res.x) - x0;
-        for (k, acc) in accs.into_iter().enumerate() {
-            let (dx, dy) = (k as u32 % w, k as u32 / w);
-            pixels[((y0 + dy) * res.x + x0 + dx) as usize] = acc;
+impl FilmPass<'_> {
+    /// Traces the pass over its rows; returns their accumulators in row-major order and the
+    /// ray count.
+    fn trace<const AOV: bool, const ALPHA: bool, const LAMBERT: bool>(
+        &self,
+        progress: &dyn Progress,
+    ) -> (Vec<PixelAccumulator>, u64) {
+        let (res, settings) = (self.res, self.settings);
+        let (first, end) = self.rows;
+        let tiles_x = res.x.div_ceil(TILE);
+        let tiles_y = (end - first).div_ceil(TILE);
+        let frame_time = settings.frame as f32 + settings.shutter.0;
+        let shutter_length = settings.shutter.1 - settings.shutter.0;
+        // Pinhole cameras and instantaneous shutters draw no lens or time numbers.
+        let needs_lens_time = self.uses_lens || shutter_length > 0.0;
+        let job = TileJob {
+            tracer: self.tracer,
+            generator: self.generator,
+            res,
+            rows: self.rows,
+            tiles_x,
+            settings,
+            pass: self.pass,
+            frame_time,
+            shutter_length,
+            needs_lens_time,
+        };
+        let level = cpu::level();
+        let tiles: Vec<(Vec<PixelAccumulator>, u64)> = (0..tiles_x * tiles_y)
+            .into_par_iter()
+            .map(|tile| {
+                if progress.cancelled() {
+                    return (Vec::new(), 0);
+                }
+                let (accs, rays, samples) = cpu::trace_tile::<AOV, ALPHA, LAMBERT>(level, &job, tile);
+                progress.advance(samples);
+                (accs, rays)
+            })
+            .collect();
+
+        // Scatter tiles into row-major order.
+        let mut pixels = vec![PixelAccumulator::default(); res.x as usize * (end - first) as usize];
+        let mut rays = 0;
+        for (tile, (accs, tile_rays)) in tiles.into_iter().enumerate() {
+            rays += tile_rays;
+            let tile = tile as u32;
+            let x0 = (tile % tiles_x) * TILE;
+            let y0 = (tile / tiles_x) * TILE;
+            let w = (x0 + TILE).min(res.x) - x0;
+            for (k, acc) in accs.into_iter().enumerate() {
+                let (dx, dy) = (k as u32 % w, k as u32 / w);
+                pixels[((y0 + dy) * res.x + x0 + dx) as usize] = acc;
+            }
         }
+        (pixels, rays)
     }
-    (pixels, rays)
 }
 
 /// Everything one tile's tracing needs (shared by all tiles of a frame).
@@ -274,6 +339,8 @@ struct TileJob<'a> {
     tracer: &'a PathTracer,
     generator: &'a dyn RayGenerator,
     res: UVec2,
+    /// The film rows traced (`start..end`); tiles are counted from `start`.
+    rows: (u32, u32),
     tiles_x: u32,
     settings: &'a RenderSettings,
     pass: &'a Pass<'a>,
@@ -293,16 +360,16 @@ impl TileJob<'_> {
     ) -> (Vec<PixelAccumulator>, u64, u64) {
         let (res, settings, tracer) = (self.res, self.settings, self.tracer);
         let x0 = (tile % self.tiles_x) * TILE;
-        let y0 = (tile / self.tiles_x) * TILE;
+        let y0 = self.rows.0 + (tile / self.tiles_x) * TILE;
         let x1 = (x0 + TILE).min(res.x);
-        let y1 = (y0 + TILE).min(res.y);
+        let y1 = (y0 + TILE).min(self.rows.1);
         let mut out = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
         let (mut rays, mut samples) = (0u64, 0u64);
         let pass = self.pass;
         for y in y0..y1 {
             for x in x0..x1 {
                 let pixel = UVec2::new(x, y);
-                let i = (y * res.x + x) as usize;
+                let i = ((y - self.rows.0) * res.x + x) as usize;
                 let mut acc = pass.previous.map_or_else(PixelAccumulator::default, |p| p[i]);
                 let end = match pass.ends {
                     Ends::All(end) => end,
