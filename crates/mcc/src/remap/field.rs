@@ -13,12 +13,16 @@ use crate::ray_file::StoredRay;
 use crate::slerp::angle_between;
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
+use std::ops::Range;
 
 /// Relative residual at which the membrane solves stop. What error is left is smooth: it bends
 /// the field by far less than a pixel's step (docs/design.md §5.8).
 const TOLERANCE: f64 = 1e-4;
 /// Red–black sweeps of the membrane on the pixels after the interpolation from 2 × 2 blocks.
 const RELAX_SWEEPS: usize = 4;
+/// How far from the camera's pixels (in pixels, along rows and columns) the sweeps reach: the
+/// interpolation errs near them only, and a sweep moves a change by a pixel or two.
+const RELAX_REACH: usize = 8;
 /// Iterations a solve may take (a handful reach [`TOLERANCE`]; docs/performance.md).
 const MAX_ITERATIONS: usize = 30;
 
@@ -100,6 +104,8 @@ pub(crate) struct FieldSolvers {
     origins: Membrane<3>,
     /// Blocks holding a pixel of the camera (the coarse membrane's fixed cells).
     fixed: Vec<bool>,
+    /// Per row, the pixels the relaxing sweeps visit.
+    spans: Vec<Range<usize>>,
 }
 
 impl FieldSolvers {
@@ -107,7 +113,7 @@ impl FieldSolvers {
     pub(crate) fn new(width: usize, height: usize) -> Self {
         let (cw, ch) = (width.div_ceil(2), height.div_ceil(2));
         let (directions, origins) = (Membrane::new(cw, ch), Membrane::new(cw, ch));
-        Self { width, height, directions, origins, fixed: Vec::new() }
+        Self { width, height, directions, origins, fixed: Vec::new(), spans: Vec::new() }
     }
 
     /// The field of camera `c` (its pixels are those with `cam[p] == c`; `edges` marks its edge
@@ -127,10 +133,11 @@ impl FieldSolvers {
         let (cw, ch) = (w.div_ceil(2), h.div_ceil(2));
         self.fixed.clear();
         self.fixed.par_extend((0..cw * ch).into_par_iter().map(|b| block(b, cw, w, h).any(|p| cam[p] == c)));
-        let own = |p: usize| cam[p] == c;
+        relax_spans(&self.fixed, (cw, ch), (w, h), &mut self.spans);
         let size = (w, h);
-        let log = |p: usize| edge(p).then(|| frame.log(sources[p].direction));
-        let tangent = block_field(&mut self.directions, &self.fixed, size, own, log);
+        let own = |p: usize| cam[p] == c;
+        let log = |p: usize| (cam[p] == c).then(|| frame.log(sources[p].direction));
+        let tangent = block_field(&mut self.directions, &self.fixed, &self.spans, size, own, edge, log);
         // Origins: one shared point (bit for bit) needs no membrane.
         let mut edge_origins = (0..n).filter(|&p| edge(p)).map(|p| sources[p].origin);
         let origin = edge_origins.next().unwrap_or(Vec3::ZERO);
@@ -138,10 +145,35 @@ impl FieldSolvers {
         if edge_origins.all(|o| bits(o) == bits(origin)) {
             return CameraField { frame, tangent, origins: None, origin };
         }
-        let point = |p: usize| edge(p).then(|| sources[p].origin.to_array());
-        let points = block_field(&mut self.origins, &self.fixed, size, own, point);
+        let point = |p: usize| (cam[p] == c).then(|| sources[p].origin.to_array());
+        let points = block_field(&mut self.origins, &self.fixed, &self.spans, size, own, edge, point);
         CameraField { frame, tangent, origins: Some(points), origin }
     }
+}
+
+/// Per pixel row, the pixels within [`RELAX_REACH`] (along rows and columns) of a block with
+/// a pixel of the camera (`fixed`, a `cw × ch` grid over `w × h`), as one range: the extent of
+/// those blocks in the nearby rows, widened by the reach.
+fn relax_spans(
+    fixed: &[bool],
+    (cw, ch): (usize, usize),
+    (w, h): (usize, usize),
+    spans: &mut Vec<Range<usize>>,
+) {
+    // Per block row, the first and last fixed block.
+    let extents: Vec<Option<(usize, usize)>> = fixed
+        .chunks(cw)
+        .map(|row| Some((row.iter().position(|&f| f)?, row.iter().rposition(|&f| f)?)))
+        .collect();
+    let reach_blocks = RELAX_REACH.div_ceil(2);
+    spans.clear();
+    spans.extend((0..h).map(|y| {
+        let cy = y / 2;
+        let rows = cy.saturating_sub(reach_blocks)..(cy + reach_blocks + 1).min(ch);
+        let (lo, hi) =
+            extents[rows].iter().flatten().fold((usize::MAX, 0), |(lo, hi), &(a, b)| (lo.min(a), hi.max(b)));
+        if lo > hi { 0..0 } else { (2 * lo).saturating_sub(RELAX_REACH)..(2 * hi + 2 + RELAX_REACH).min(w) }
+    }));
 }
 
 /// The pixels of block `b` of a `w × h` picture (`cw` blocks wide).
@@ -150,37 +182,97 @@ fn block(b: usize, cw: usize, w: usize, h: usize) -> impl Iterator<Item = usize>
     (y0..(y0 + 2).min(h)).flat_map(move |y| (x0..(x0 + 2).min(w)).map(move |x| y * w + x))
 }
 
-/// A field solved on 2 × 2 blocks: blocks with a pixel of the camera (`fixed`) hold the mean
-/// `value` of its edge pixels among them, the membrane fills the other blocks, and the pixels
-/// that are not the camera's `own` get the bilinear interpolation of the blocks, relaxed by a few
-/// sweeps of the membrane on the pixels (which settle the step from the camera's edge). A block
-/// of only inner pixels has no value, and no other pixel's interpolation reads it: edges are
-/// 8-connected, so every pixel next to a non-own pixel is an edge pixel.
+/// Ridge on the gradient of [`centre_value`]'s plane: where the camera's pixels near a block lie
+/// on one line, the gradient across it is unknown and taken as 0 (the mean along the line).
+const RIDGE: f64 = 1e-3;
+
+/// The field at the centre of block `b` (a `cw`-wide grid over `w × h`), from the camera's
+/// pixels (`value` is `Some` at them): their mean when the block is all the camera's, else the
+/// least-squares plane through those of the 4 × 4 pixels around the block, at its centre. A
+/// coarse cell's value stands for its centre: the mean of a partial block's pixels would
+/// misplace the camera's border by up to a pixel, and the membrane with it (docs/design.md §5.8).
+fn centre_value<const K: usize>(
+    b: usize,
+    cw: usize,
+    (w, h): (usize, usize),
+    value: &impl Fn(usize) -> Option<[f32; K]>,
+) -> [f32; K] {
+    let (x0, y0) = (2 * (b % cw), 2 * (b / cw));
+    let (mut sum, mut count) = ([0.0f32; K], 0);
+    for v in block(b, cw, w, h).filter_map(value) {
+        (0..K).for_each(|k| sum[k] += v[k]);
+        count += 1;
+    }
+    if count == 4 {
+        return sum.map(|s| s * 0.25);
+    }
+    // Normal equations of v ≈ a + g_x·dx + g_y·dy, (dx, dy) from the block's centre.
+    let (mut m, mut rhs) = ([[0.0f64; 3]; 3], [[0.0f64; 3]; K]);
+    for y in y0.saturating_sub(1)..(y0 + 3).min(h) {
+        for x in x0.saturating_sub(1)..(x0 + 3).min(w) {
+            let Some(v) = value(y * w + x) else { continue };
+            let basis = [1.0, x as f64 - x0 as f64 - 0.5, y as f64 - y0 as f64 - 0.5];
+            for i in 0..3 {
+                for j in 0..3 {
+                    m[i][j] += basis[i] * basis[j];
+                }
+                for k in 0..K {
+                    rhs[k][i] += basis[i] * v[k] as f64;
+                }
+            }
+        }
+    }
+    m[1][1] += RIDGE;
+    m[2][2] += RIDGE;
+    // Cramer's rule for the constant term a.
+    let det3 = |a: [[f64; 3]; 3]| {
+        a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
+            + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])
+    };
+    let det = det3(m);
+    if det.abs() < 1e-12 {
+        return [0.0; K];
+    }
+    std::array::from_fn(|k| {
+        let mut a = m;
+        (0..3).for_each(|i| a[i][0] = rhs[k][i]);
+        (det3(a) / det) as f32
+    })
+}
+
+/// A field solved on 2 × 2 blocks: blocks with a pixel of the camera (`fixed`) hold the field at
+/// their centre ([`centre_value`], from the camera's own `value`s), the membrane fills the other
+/// blocks, and the pixels that are not the camera's get the bilinear interpolation of the blocks,
+/// relaxed by a few sweeps of the membrane on the pixels (which settle the step from the
+/// camera's edge). `value` is `Some` exactly where `own`. Only blocks with an edge pixel of the camera (`edge`) need a value: any block
+/// that a free block or a free pixel's interpolation touches has one (edges are 8-connected).
 fn block_field<const K: usize>(
     membrane: &mut Membrane<K>,
     fixed: &[bool],
+    spans: &[Range<usize>],
     (w, h): (usize, usize),
     own: impl Fn(usize) -> bool + Sync,
+    edge: impl Fn(usize) -> bool + Sync,
     value: impl Fn(usize) -> Option<[f32; K]> + Sync,
 ) -> Vec<[f32; K]> {
     let (cw, ch) = (w.div_ceil(2), h.div_ceil(2));
     let mut coarse: Vec<[f32; K]> = (0..cw * ch)
         .into_par_iter()
         .map(|b| {
-            let (mut sum, mut count) = ([0.0f32; K], 0.0f32);
-            if fixed[b] {
-                for v in block(b, cw, w, h).filter_map(&value) {
-                    (0..K).for_each(|k| sum[k] += v[k]);
-                    count += 1.0;
-                }
+            if fixed[b] && block(b, cw, w, h).any(&edge) {
+                centre_value(b, cw, (w, h), &value)
+            } else {
+                [0.0; K]
             }
-            if count > 0.0 { sum.map(|s| s / count) } else { sum }
         })
         .collect();
     membrane.solve(|b| fixed[b], &mut coarse, TOLERANCE, MAX_ITERATIONS);
-    let mut fine: Vec<[f32; K]> = (0..w * h).into_par_iter().map(|p| value(p).unwrap_or([0.0; K])).collect();
+    let mut fine: Vec<[f32; K]> = (0..w * h)
+        .into_par_iter()
+        .map(|p| if edge(p) { value(p).unwrap_or([0.0; K]) } else { [0.0; K] })
+        .collect();
     prolong(&coarse, (cw, ch), |_| true, &mut fine, (w, h), |p| !own(p), false);
-    relax(&mut fine, own, w, h, RELAX_SWEEPS);
+    relax(&mut fine, own, spans, w, h, RELAX_SWEEPS);
     fine
 }
 
