@@ -95,13 +95,11 @@ impl CameraField {
 }
 
 /// The solvers the fields of one picture share (their buffers are reused camera after camera).
-/// Each field is solved on the grid of 2 × 2 blocks, interpolated bilinearly, relaxed near the
-/// camera and finished on the pixels (docs/design.md §5.8).
+/// Each field is solved on the grid of 2 × 2 blocks, interpolated bilinearly and relaxed on the
+/// pixels (docs/design.md §5.8).
 pub(crate) struct FieldSolvers {
     width: usize,
     height: usize,
-    coarse_directions: Membrane<2>,
-    coarse_origins: Membrane<3>,
     directions: Membrane<2>,
     origins: Membrane<3>,
     /// Blocks holding a pixel of the camera (the coarse membrane's fixed cells).
@@ -114,10 +112,8 @@ impl FieldSolvers {
     /// Solvers for `width × height` pictures.
     pub(crate) fn new(width: usize, height: usize) -> Self {
         let (cw, ch) = (width.div_ceil(2), height.div_ceil(2));
-        let (coarse_directions, coarse_origins) = (Membrane::new(cw, ch), Membrane::new(cw, ch));
-        let (directions, origins) = (Membrane::new(width, height), Membrane::new(width, height));
-        let (fixed, spans) = (Vec::new(), Vec::new());
-        Self { width, height, coarse_directions, coarse_origins, directions, origins, fixed, spans }
+        let (directions, origins) = (Membrane::new(cw, ch), Membrane::new(cw, ch));
+        Self { width, height, directions, origins, fixed: Vec::new(), spans: Vec::new() }
     }
 
     /// The field of camera `c` (its pixels are those with `cam[p] == c`; `edges` marks its edge
@@ -141,15 +137,7 @@ impl FieldSolvers {
         let size = (w, h);
         let own = |p: usize| cam[p] == c;
         let log = |p: usize| (cam[p] == c).then(|| frame.log(sources[p].direction));
-        let tangent = block_field(
-            (&mut self.coarse_directions, &mut self.directions),
-            &self.fixed,
-            &self.spans,
-            size,
-            own,
-            edge,
-            log,
-        );
+        let tangent = block_field(&mut self.directions, &self.fixed, &self.spans, size, own, edge, log);
         // Origins: one shared point (bit for bit) needs no membrane.
         let mut edge_origins = (0..n).filter(|&p| edge(p)).map(|p| sources[p].origin);
         let origin = edge_origins.next().unwrap_or(Vec3::ZERO);
@@ -158,15 +146,7 @@ impl FieldSolvers {
             return CameraField { frame, tangent, origins: None, origin };
         }
         let point = |p: usize| (cam[p] == c).then(|| sources[p].origin.to_array());
-        let points = block_field(
-            (&mut self.coarse_origins, &mut self.origins),
-            &self.fixed,
-            &self.spans,
-            size,
-            own,
-            edge,
-            point,
-        );
+        let points = block_field(&mut self.origins, &self.fixed, &self.spans, size, own, edge, point);
         CameraField { frame, tangent, origins: Some(points), origin }
     }
 }
@@ -260,17 +240,14 @@ fn centre_value<const K: usize>(
     })
 }
 
-/// A field solved on 2 × 2 blocks, then on the pixels: blocks with a pixel of the camera
-/// (`fixed`) hold the field at their centre ([`centre_value`], from the camera's own `value`s,
-/// `Some` exactly where `own`), the membrane fills the other blocks, the pixels that are not the
-/// camera's get the blocks' bilinear interpolation, relaxed by a few sweeps near the camera, and
-/// conjugate gradients on the pixels go on from there to the tolerance: the blocks put the
-/// camera's border up to half a pixel off, which bends the field by up to a pitch far from it,
-/// while the start leaves the pixels' solve an iteration or two (docs/design.md §5.8). Only
-/// blocks with an edge pixel of the camera (`edge`) need a value: any block that a free block or
-/// a free pixel's interpolation touches has one (edges are 8-connected).
+/// A field solved on 2 × 2 blocks: blocks with a pixel of the camera (`fixed`) hold the field at
+/// their centre ([`centre_value`], from the camera's own `value`s), the membrane fills the other
+/// blocks, and the pixels that are not the camera's get the bilinear interpolation of the blocks,
+/// relaxed by a few sweeps of the membrane on the pixels (which settle the step from the
+/// camera's edge). `value` is `Some` exactly where `own`. Only blocks with an edge pixel of the camera (`edge`) need a value: any block
+/// that a free block or a free pixel's interpolation touches has one (edges are 8-connected).
 fn block_field<const K: usize>(
-    (coarse_membrane, membrane): (&mut Membrane<K>, &mut Membrane<K>),
+    membrane: &mut Membrane<K>,
     fixed: &[bool],
     spans: &[Range<usize>],
     (w, h): (usize, usize),
@@ -289,14 +266,13 @@ fn block_field<const K: usize>(
             }
         })
         .collect();
-    coarse_membrane.solve(|b| fixed[b], &mut coarse, TOLERANCE, MAX_ITERATIONS);
+    membrane.solve(|b| fixed[b], &mut coarse, TOLERANCE, MAX_ITERATIONS);
     let mut fine: Vec<[f32; K]> = (0..w * h)
         .into_par_iter()
         .map(|p| if edge(p) { value(p).unwrap_or([0.0; K]) } else { [0.0; K] })
         .collect();
     prolong(&coarse, (cw, ch), |_| true, &mut fine, (w, h), |p| !own(p), false);
-    relax(&mut fine, &own, spans, w, h, RELAX_SWEEPS);
-    membrane.refine(own, &mut fine, TOLERANCE, MAX_ITERATIONS);
+    relax(&mut fine, own, spans, w, h, RELAX_SWEEPS);
     fine
 }
 
@@ -365,8 +341,9 @@ mod tests {
     fn the_block_solve_stays_near_the_membrane_on_the_pixels() {
         // Two discs and a ring of camera 1 (medial axes between and inside them) with a curved
         // field of directions and of origins: the block solve against the membrane solved on
-        // the pixels themselves (the definition, docs/design.md §5.8), within a tenth of the
-        // pitch in angle and a tenth of the origins' step.
+        // the pixels themselves (the definition, docs/design.md §5.8). The blocks put the
+        // camera's border up to half a pixel off, which bends a curved field smoothly far from
+        // it: within one pitch in angle and one origins' step, not the tenth the ring allows.
         let (w, h) = (160, 120);
         let at = |p: usize| ((p % w) as f32 - w as f32 / 2.0, (p / w) as f32 - h as f32 / 2.0);
         let sources: Vec<StoredRay> = (0..w * h)
@@ -408,8 +385,8 @@ mod tests {
             let want = Vec3::new(points[0][p], points[1][p], points[2][p]);
             distance = distance.max((field.origin(p) - want).length());
         }
-        // Pitch 0.01 rad, origins' step 0.02 (the blocks alone, without the pixels' solve, err
-        // by 8.7e-3 rad and 0.019).
-        assert!(angle < 1e-3 && distance < 2e-3, "{angle} rad, {distance}");
+        // Pitch 0.01 rad, origins' step 0.02 (measured: 8.7e-3 rad, 0.019; docs/performance.md,
+        // ledger: "membrane on 2 × 2 blocks").
+        assert!(angle < 1e-2 && distance < 2e-2, "{angle} rad, {distance}");
     }
 }

@@ -79,31 +79,6 @@ impl<const K: usize> Membrane<K> {
         tolerance: f64,
         max_iterations: usize,
     ) -> Solved {
-        self.run(fixed, values, tolerance, max_iterations, true)
-    }
-
-    /// [`Membrane::solve`] from the free pixels' values as given (a close start, such as a
-    /// coarser grid's solution interpolated) instead of the full-multigrid start; the hierarchy
-    /// is built only if the start's residual is not yet within `tolerance`.
-    pub(crate) fn refine(
-        &mut self,
-        fixed: impl Fn(usize) -> bool + Sync,
-        values: &mut [[f32; K]],
-        tolerance: f64,
-        max_iterations: usize,
-    ) -> Solved {
-        self.run(fixed, values, tolerance, max_iterations, false)
-    }
-
-    /// The solve, from the full-multigrid start (`start`) or from `values`.
-    fn run(
-        &mut self,
-        fixed: impl Fn(usize) -> bool + Sync,
-        values: &mut [[f32; K]],
-        tolerance: f64,
-        max_iterations: usize,
-        start: bool,
-    ) -> Solved {
         let (w, h) = (self.width, self.height);
         let n = w * h;
         assert_eq!(values.len(), n, "a membrane solver for {w}x{h} grids");
@@ -120,20 +95,17 @@ impl<const K: usize> Membrane<K> {
             return Solved { iterations: 0, relative_residual: 0.0 };
         }
         let reference = self.constant_residual(mean);
-        let mut built = start;
-        if start {
-            hierarchy::build(&mut self.levels, w, h, &self.fixed);
-            hierarchy::fit(&mut self.work, &self.levels);
-        }
+        hierarchy::build(&mut self.levels, w, h, &self.fixed);
+        hierarchy::fit(&mut self.work, &self.levels);
         // Full-multigrid start (or the constant guess on grids too small for coarse levels).
         let fixed = &self.fixed;
-        if start && self.levels.is_empty() {
+        if self.levels.is_empty() {
             values.par_iter_mut().enumerate().for_each(|(p, v)| {
                 if !fixed[p] {
                     *v = mean;
                 }
             });
-        } else if start {
+        } else {
             hierarchy::aggregate_problem(&self.b, w, h, &self.levels, &mut self.work);
             hierarchy::full_multigrid(&self.levels, &mut self.work);
             let coarse = &self.levels[0];
@@ -165,11 +137,6 @@ impl<const K: usize> Membrane<K> {
                 if relative <= tolerance {
                     break;
                 }
-            }
-            if !built {
-                hierarchy::build(&mut self.levels, w, h, &self.fixed);
-                hierarchy::fit(&mut self.work, &self.levels);
-                built = true;
             }
             self.precondition();
             let rz_next = dots(&self.r, &self.z, w);
