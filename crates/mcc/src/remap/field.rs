@@ -366,15 +366,15 @@ mod tests {
         let field = FieldSolvers::new(w, h).field(&cam, 1, &edges, &sources);
         let own = |p: usize| cam[p] == 1;
         let fine = |value: &dyn Fn(usize) -> Vec<f32>, k: usize| -> Vec<Vec<f32>> {
-            let mut out = vec![vec![0.0f32; w * h]; k];
-            for ch in 0..k {
-                let mut u: Vec<[f32; 1]> =
-                    (0..w * h).map(|p| [if own(p) { value(p)[ch] } else { 0.0 }]).collect();
-                let solved = Membrane::<1>::new(w, h).solve(own, &mut u, 1e-5, 60);
-                assert!(solved.relative_residual <= 1e-5, "{solved:?}");
-                out[ch] = u.iter().map(|v| v[0]).collect();
-            }
-            out
+            (0..k)
+                .map(|ch| {
+                    let mut u: Vec<[f32; 1]> =
+                        (0..w * h).map(|p| [if own(p) { value(p)[ch] } else { 0.0 }]).collect();
+                    let solved = Membrane::<1>::new(w, h).solve(own, &mut u, 1e-5, 60);
+                    assert!(solved.relative_residual <= 1e-5, "{solved:?}");
+                    u.iter().map(|v| v[0]).collect()
+                })
+                .collect()
         };
         let tangent = fine(&|p| field.frame.log(sources[p].direction).to_vec(), 2);
         let points = fine(&|p| sources[p].origin.to_array().to_vec(), 3);
