@@ -266,6 +266,15 @@ fn main() {
     if wanted("files") {
         remap_from_files(&dir);
     }
+    // Only when named exactly: one 1080p remap in one blend, for instruction counts
+    // (`valgrind --tool=callgrind --toggle-collect='*remap_sources*' BENCH one-seamless`).
+    for (section, config) in
+        [("one-glassner", &RemapConfig::GLASSNER), ("one-seamless", &RemapConfig::SEAMLESS)]
+    {
+        if filter.iter().any(|f| f == section) {
+            one_remap(config);
+        }
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -309,6 +318,16 @@ fn remap_scaling() {
             median_ratio(|t| t.cpu)
         );
     }
+}
+
+/// One remap of the 1080p, 8-camera, 3-region case of [`remap_scaling`] in `config`'s blend.
+fn one_remap(config: &RemapConfig) {
+    let (w, h) = (1920, 1080);
+    let collage = synthetic_collage(w, h, 8);
+    let regions = Regions::from_image(&image::DynamicImage::ImageRgb8(synthetic_regions(w, h)));
+    let src = sources(&collage, 8);
+    let t = time(1, || remap_sources(&collage, &regions, &src, 0, config).expect("remap"));
+    row("one remap 1080p, 8 cams, 3 regions", &t, 1e6, (w * h) as f64);
 }
 
 /// The café's two facing views at the demo's 480x270: every pixel's eye ray, as the lens writer

@@ -16,8 +16,9 @@
 //!
 //! Camera pixels keep their rays bit for bit. Directions are combined by burp exactly as in the
 //! column's mode (ascending id, accurate slerp: opposite directions never give NaN), origins by
-//! the weighted sum. Cost: one exact distance transform and one membrane solve per camera (two
-//! when its origins differ), one fade per set of regions, each linear in the pixel count.
+//! the weighted sum. Cost: one exact distance transform and one membrane solve on 2 × 2 blocks
+//! per camera (two when its origins differ), one fade per set of regions, each linear in the
+//! pixel count.
 
 use super::RemapWarning;
 use super::field::FieldSolvers;

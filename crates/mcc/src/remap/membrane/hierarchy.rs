@@ -434,7 +434,7 @@ pub(super) fn restrict<const K: usize>(
 /// pixels); otherwise `u` becomes the interpolation over the `active` cells only (weights
 /// renormalised: an inactive cell has no value).
 #[allow(clippy::too_many_arguments)] // two grids and the two masks
-pub(super) fn prolong<const K: usize>(
+pub(crate) fn prolong<const K: usize>(
     e: &[[f32; K]],
     (cw, ch): (usize, usize),
     active: impl Fn(usize) -> bool + Sync,

@@ -16,8 +16,10 @@
 
 mod hierarchy;
 
+pub(crate) use hierarchy::prolong;
 use hierarchy::{Coarse, Work};
 use rayon::prelude::*;
+use std::ops::Range;
 
 /// Grids smaller than this many cells are processed by one thread: tasks would cost more.
 const PARALLEL_CELLS: usize = 1 << 14;
@@ -288,7 +290,8 @@ impl<const K: usize> Membrane<K> {
     /// The cells of one colour: z = (r + Σ in-image neighbours) / their count.
     fn half_sweep(&mut self, colour: usize) {
         let fixed = &self.fixed;
-        half_sweep(&mut self.z, &self.r, |p| fixed[p], colour, self.width, self.height);
+        let (w, h) = (self.width, self.height);
+        half_sweep(&mut self.z, Some(&self.r), |p| fixed[p], |_| 0..w, colour, w, h);
     }
 
     /// q = A p at free pixels (0 at fixed ones; p holds 0 there); returns p·q per channel.
@@ -362,26 +365,48 @@ fn apply<const K: usize>(
     sum_rows(&rows)
 }
 
-/// The free cells of one colour: u = (rhs + Σ in-image neighbours) / their count. Rows run in
-/// parallel on large grids; each reads only the other colour.
+/// Red–black Gauss–Seidel sweeps of the membrane itself on `values` (fixed pixels, where
+/// `fixed(p)`, hold their values): each free pixel in its row's `span` becomes the mean of its
+/// neighbours; the pixels outside the spans hold theirs. Smooths what an interpolation from a
+/// coarser grid left near the fixed pixels.
+pub(crate) fn relax<const K: usize>(
+    values: &mut [[f32; K]],
+    fixed: impl Fn(usize) -> bool + Sync,
+    spans: &[Range<usize>],
+    w: usize,
+    h: usize,
+    sweeps: usize,
+) {
+    for _ in 0..sweeps {
+        for colour in [0, 1] {
+            half_sweep(values, None, &fixed, |y| spans[y].clone(), colour, w, h);
+        }
+    }
+}
+
+/// The free cells of one colour in each row's `span`: u = (rhs + Σ in-image neighbours) / their
+/// count (rhs 0 when `None`). Rows run in parallel on large grids; each reads only the other
+/// colour.
 fn half_sweep<const K: usize>(
     u: &mut [[f32; K]],
-    rhs: &[[f32; K]],
+    rhs: Option<&[[f32; K]]>,
     fixed: impl Fn(usize) -> bool + Sync,
+    span: impl Fn(usize) -> Range<usize> + Sync,
     colour: usize,
     w: usize,
     h: usize,
 ) {
     let grid = Shared(u.as_mut_ptr());
     let row = |y: usize| {
-        let mut x = (y + colour) & 1;
-        while x < w {
+        let Range { start, end } = span(y);
+        let mut x = start + ((start + y + colour) & 1);
+        while x < end {
             let p = y * w + x;
             if !fixed(p) {
                 // SAFETY: (x, y) has this half-sweep's colour, its neighbours the other one.
                 let (sum, n) = unsafe { grid.neighbours(x, y, w, h) };
                 let inv = 1.0 / n;
-                let b = rhs[p];
+                let b = rhs.map_or([0.0; K], |r| r[p]);
                 let v: [f32; K] = std::array::from_fn(|k| (b[k] + sum[k]) * inv);
                 // SAFETY: only this task writes cells of this colour in row y.
                 unsafe { grid.write(p, v) };
