@@ -1,7 +1,7 @@
 //! Editing over the socket: paint, undo and redo, camera edits, the preview's progress, and a
 //! malformed message changing nothing.
 
-use super::{Client, Msg, RES, SETTINGS, decode, scratch, start, two_strokes};
+use super::{Client, Msg, RES, SETTINGS, decode, scratch, start, two_strokes, two_strokes_labels};
 use serde_json::json;
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
@@ -16,15 +16,7 @@ async fn paint_undo_redo_and_camera_edits() {
     assert_eq!(after["can_undo"], true);
     assert_eq!(after["cameras"][1]["fov_deg"], 35.0);
     assert_eq!(after["cameras"][1]["name"], "cornell copy");
-    let [w, h] = RES;
-    let third = w / 3;
-    let painted: Vec<u8> = (0..w * h)
-        .map(|p| match p % w {
-            x if x < third => 1,
-            x if x >= w - third => 2,
-            _ => 0,
-        })
-        .collect();
+    let painted = two_strokes_labels();
     // A second tab sees the maps as painted.
     let mut other = Client::connect(&running).await;
     other.send(json!({"type": "hello"})).await;
@@ -105,15 +97,7 @@ async fn camera_edits_undo_in_order_and_tabs_see_each_other() {
     assert_ne!(moved["eye"], before["cameras"][0]["eye"], "two_strokes moves the copy");
 
     // The other tab got the second stroke's map without asking.
-    let [w, h] = RES;
-    let third = w / 3;
-    let painted: Vec<u8> = (0..w * h)
-        .map(|p| match p % w {
-            x if x < third => 1,
-            x if x >= w - third => 2,
-            _ => 0,
-        })
-        .collect();
+    let painted = two_strokes_labels();
     let seen = other
         .until(|m| matches!(m, Msg::Json(v) if v["type"] == "labels" && decode(&v["data"]) == painted))
         .await;

@@ -51,3 +51,16 @@ pub async fn two_strokes(client: &mut Client) -> Value {
     client.paint([0, 0, third, h], &vec![1; (third * h) as usize]).await;
     client.paint([w - third, 0, third, h], &vec![2; (third * h) as usize]).await
 }
+
+/// The label map `two_strokes` leaves: camera 1 on the left third, camera 2 on the right.
+pub fn two_strokes_labels() -> Vec<u8> {
+    let [w, h] = RES;
+    let third = w / 3;
+    (0..w * h)
+        .map(|p| match p % w {
+            x if x < third => 1,
+            x if x >= w - third => 2,
+            _ => 0,
+        })
+        .collect()
+}
