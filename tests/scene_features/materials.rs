@@ -9,8 +9,8 @@ use std::f32::consts::{FRAC_PI_2, PI};
 /// halves lit by a 1 W/m² directional light: the left half's tangent frame comes from its
 /// texture coordinates (u along +X, v along +Z: tangent +X, bitangent −∂p/∂v = −Z), the right
 /// half's from a TANGENT attribute (1, 0, 0, +1) on a node turned 90° about +Y (world tangent
-/// −Z, bitangent n × t = −X). Each renders ρ/π · E · (n′ · l) with n′ the map's normal in that
-/// frame.
+/// −Z, bitangent n × t = −X). Each renders ρ/π · E · (n′ · l) · G₁ with n′ the map's normal in
+/// that frame and G₁ Blender's bump shadowing.
 #[test]
 fn normal_map_tilts_the_cosine_law() {
     let dir = TempDir::new("normal");
@@ -38,7 +38,16 @@ fn normal_map_tilts_the_cosine_law() {
     let m = Vec3::from(code.map(|c| 2.0 * c as f32 / 255.0 - 1.0));
     let n_left = (m.x * Vec3::X + m.y * Vec3::NEG_Z + m.z * Vec3::Y).normalize();
     let n_right = (m.x * Vec3::NEG_Z + m.y * Vec3::NEG_X + m.z * Vec3::Y).normalize();
-    let (want_left, want_right) = (0.5 / PI * n_left.dot(l), 0.5 / PI * n_right.dot(l));
+    // Blender's bump shadowing of the diffuse lobe (docs/design.md §3.10; Chiang et al. 2019, as
+    // Cycles' `bump_shadowing_term`): a GGX G1 for the light's angle to the unmapped normal Y,
+    // with α² = ⅛·tan² of the map's tilt.
+    let shadowing = |n: Vec3| {
+        let tan2 = |c: f32| 1.0 / (c * c) - 1.0;
+        let alpha2 = (0.125 * tan2(n.y)).clamp(0.0, 1.0);
+        2.0 / (1.0 + (1.0 + alpha2 * tan2(l.y)).sqrt())
+    };
+    let lit = |n: Vec3| 0.5 / PI * n.dot(l) * shadowing(n);
+    let (want_left, want_right) = (lit(n_left), lit(n_right));
     // Tilted ~30° each way: far from each other and from the flat floor's 0.5/π · 0.873.
     assert!((want_left - want_right).abs() > 0.03 && (want_left - 0.5 / PI * l.y).abs() > 0.01);
 
@@ -82,8 +91,8 @@ fn alpha_masked_leaf_casts_a_cut_out_shadow() {
 }
 
 /// Refraction through a glass ball (transmission 1, ior 1.5, radius 1) seen by an orthographic
-/// camera against an emissive backdrop at z = −3 whose red rises linearly with x
-/// (R = clamp((x + 2)/4), G = 1, from a 2-texel LINEAR/CLAMP texture). For each pixel the
+/// camera against an emissive backdrop at z = −3 whose red rises with x (R = the sRGB decoding
+/// of clamp((x + 2)/4), G = 1, from a 2-texel LINEAR/CLAMP texture). For each pixel the
 /// closed form refracts the parallel ray into and out of the sphere by Snell's law (vectors
 /// below), lands it on the backdrop, and weights it by the exact Fresnel transmittances: the
 /// expected G is (1 − F₁)(1 − F₂) and R/G the backdrop ramp where the ray lands (plus the small
@@ -109,7 +118,10 @@ fn glass_ball_refracts_as_snell_and_fresnel_say() {
         "",
     );
     let scene = load(&g.write(&dir, "glass"));
-    let ramp = |x: f64| ((x + 2.0) / 4.0).clamp(0.0, 1.0);
+    // The texels are sRGB: filtered encoded, then decoded (docs/design.md §3.10), so the
+    // emitted red is the decoded linear ramp of the encoded value.
+    let decode = |c: f64| if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) };
+    let ramp = |x: f64| decode(((x + 2.0) / 4.0).clamp(0.0, 1.0));
     // Refraction of unit d through a surface with unit normal n facing against d, eta = n_i/n_t:
     // the transmitted direction and the unpolarised Fresnel reflectance.
     let refract = |d: DVec3, n: DVec3, eta: f64| {
