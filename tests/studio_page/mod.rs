@@ -19,9 +19,10 @@ use std::time::Duration;
 const RES: (u32, u32) = (160, 90);
 /// The brush diameter in collage pixels.
 const BRUSH: f64 = 9.0;
-/// Two horizontal strokes, camera 1 on the left, camera 2 on the right (collage pixels).
-const STROKES: [(u32, (f64, f64), (f64, f64)); 2] =
-    [(1, (16.0, 30.0), (56.0, 30.0)), (2, (104.0, 60.0), (144.0, 60.0))];
+/// A stroke: the camera it paints, and its start and end (collage pixels).
+type Stroke = (u32, (f64, f64), (f64, f64));
+/// Two horizontal strokes, camera 1 on the left, camera 2 on the right.
+const STROKES: [Stroke; 2] = [(1, (16.0, 30.0), (56.0, 30.0)), (2, (104.0, 60.0), (144.0, 60.0))];
 /// "Render final" settings: small, so the rerender comparison is quick.
 const FINAL: (u32, u32, u32) = (64, 36, 4);
 /// Waits for the server's work (previews, save, final render) on a loaded machine.

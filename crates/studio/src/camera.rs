@@ -60,7 +60,7 @@ impl StudioCamera {
         let moved =
             Self { eye: edit.eye, target: edit.target, up: edit.up, fov_deg: edit.fov_deg, ..self.clone() };
         let finite = [moved.eye, moved.target, moved.up].iter().flatten().all(|v| v.is_finite());
-        if !finite || !(moved.fov_deg > 0.0 && moved.fov_deg < 180.0) {
+        if !(finite && moved.fov_deg > 0.0 && moved.fov_deg < 180.0) {
             return Err(StudioError::request(format!(
                 "camera {}: eye, target and up must be finite and fov_deg in (0, 180)",
                 self.index

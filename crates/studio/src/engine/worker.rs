@@ -59,10 +59,10 @@ impl Worker {
                 None => return,
             };
             done = snap.seq;
-            if let Err(e) = self.refresh(&snap) {
-                if !e.is_cancelled() {
-                    self.shared.broadcast(Outbound::error(None, format!("preview: {e}")));
-                }
+            if let Err(e) = self.refresh(&snap)
+                && !e.is_cancelled()
+            {
+                self.shared.broadcast(Outbound::error(None, format!("preview: {e}")));
             }
         }
     }
@@ -237,10 +237,10 @@ impl Worker {
                 .hash(&mut h);
         }
         let key = h.finish();
-        if let Some((k, out)) = &self.remap {
-            if *k == key {
-                return Ok(Arc::clone(out));
-            }
+        if let Some((k, out)) = &self.remap
+            && *k == key
+        {
+            return Ok(Arc::clone(out));
         }
         let files: BTreeMap<u32, RayFile> =
             used.iter().map(|id| (*id, self.cameras[id].rays.clone())).collect();
