@@ -21,7 +21,7 @@
 
 use glam::UVec2;
 use std::path::{Path, PathBuf};
-use tracer::compare::rel_mse;
+use tracer::compare::{rel_mse, two_seed_rel_mse};
 use tracer::image::RgbImage;
 use tracer::integrator::{IntegratorConfig, PathTracer};
 use tracer::lens::LensChain;
@@ -86,19 +86,6 @@ fn render_view(root: &Path, view: &View, by_power: bool, spp: u32, seed: u32) ->
     let r = render(&tracer, camera.as_ref(), &mut LensChain::new(), &settings, &NoProgress).expect("render");
     assert_eq!(r.stats.nonfinite_samples, 0, "{}: NaN/Inf samples", view.name);
     (r.images.image, r.stats.seconds)
-}
-
-/// The variance part of relMSE from two seeds' renders, against the denominators of `r`.
-fn two_seed_rel_mse(a: &RgbImage, b: &RgbImage, r: &RgbImage) -> f64 {
-    let mut sum = 0.0;
-    for ((a, b), r) in a.pixels.iter().zip(&b.pixels).zip(&r.pixels) {
-        for c in 0..3 {
-            let d = (a[c] - b[c]) as f64;
-            let r = r[c] as f64;
-            sum += 0.5 * d * d / (r * r + 0.01);
-        }
-    }
-    sum / (3 * a.pixels.len()) as f64
 }
 
 fn mean(images: &[&RgbImage]) -> RgbImage {

@@ -28,6 +28,19 @@ pub fn rel_mse(image: &RgbImage, reference: &RgbImage) -> f64 {
     mean_over_channels(image, reference, |x, r| (x - r) * (x - r) / (r * r + REL_MSE_EPSILON))
 }
 
+/// The variance part of relMSE, from two renders that differ only in their seed: mean over pixels
+/// and channels of (a − b)² / 2 / (r² + 0.01). Each render's own noise has expectation σ²/(r² +
+/// 0.01) per channel, and (a − b)² estimates 2σ², so this needs no converged reference — `r`
+/// only sets the denominators (any good estimate of the image will do; bias is left out).
+pub fn two_seed_rel_mse(a: &RgbImage, b: &RgbImage, r: &RgbImage) -> f64 {
+    assert_same_size(&[(a, "first seed"), (b, "second seed"), (r, "reference")]);
+    let sum: f64 = (a.pixels.iter().zip(&b.pixels).zip(&r.pixels))
+        .flat_map(|((a, b), r)| (0..3).map(move |c| (a[c] as f64, b[c] as f64, r[c] as f64)))
+        .map(|(a, b, r)| 0.5 * (a - b) * (a - b) / (r * r + REL_MSE_EPSILON))
+        .sum();
+    sum / (3 * a.pixels.len().max(1)) as f64
+}
+
 fn mean_over_channels(image: &RgbImage, reference: &RgbImage, f: impl Fn(f64, f64) -> f64) -> f64 {
     assert_same_size(&[(image, "image"), (reference, "reference")]);
     let sum: f64 = (image.pixels.iter().zip(&reference.pixels))
@@ -344,6 +357,22 @@ mod tests {
             assert!(!rel_mse(&broken, &reference).is_finite() && !mse(&broken, &reference).is_finite());
             assert!(!rel_mse(&reference, &broken).is_finite(), "a non-finite reference too");
         }
+    }
+
+    #[test]
+    fn two_seed_rel_mse_estimates_each_renders_own_noise() {
+        // Two unbiased "renders" of the same image with known noise: the estimate must find the
+        // relMSE each has against the truth, which it never sees (it gets a biased `r`).
+        let truth = reference(false);
+        let (a, _) = render(&truth, 16, 1.0, 1);
+        let (b, _) = render(&truth, 16, 1.0, 2);
+        let expected = (rel_mse(&a, &truth) + rel_mse(&b, &truth)) / 2.0;
+        let mut r = truth.clone();
+        r.pixels.iter_mut().for_each(|p| *p *= 1.01);
+        let got = two_seed_rel_mse(&a, &b, &r);
+        assert!((got / expected - 1.0).abs() < 0.05, "two-seed {got:e} vs true {expected:e}");
+        // The same render twice has no noise between them.
+        assert_eq!(two_seed_rel_mse(&a, &a, &truth), 0.0);
     }
 
     /// PCG32 (O'Neill), fixed seeds: deterministic noise without a dependency.

@@ -1,7 +1,7 @@
-//! Error against time on the Cornell box, compared with the peers measured on this kind of
-//! machine (`docs/performance.md`, "Peers"; `tests/data/cornell/README.md`).
+//! The Cornell series: error against time on the Cornell box, compared with the peers measured
+//! on this kind of machine (`docs/performance.md`, "Peers"; `tests/data/cornell/README.md`).
 //!
-//! `cargo bench -p mcctrace-suite --bench convergence` renders `scenes/cornell/cornell.gltf`
+//! `CONVERGENCE=cornell cargo bench -p mcctrace-suite --bench convergence` renders `scenes/cornell/cornell.gltf`
 //! (camera `cornell`, 256², at most 4 scattering vertices, default roulette depth) at 1, 2, 4,
 //! … 256 spp on the default rayon pool, with samples spread evenly and (from 4 spp) with
 //! adaptive sampling (`tracer::adaptive`, spp then being the average), then both again with
@@ -19,11 +19,11 @@
 //! and prints the tables and the time at which relMSE first reaches 1e-3 (log–log interpolation
 //! between the bracketing spp). Paths are relative to the repository root.
 
+use crate::{Row, time_to};
 use glam::UVec2;
 use plotters::prelude::*;
-use plotters::style::FontStyle;
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use tracer::compare::rel_mse;
 use tracer::integrator::{IntegratorConfig, PathTracer};
 use tracer::lens::LensChain;
@@ -42,15 +42,8 @@ const MITSUBA_SCALAR: [(f64, f64); 1] = [(2.84, 0.00229)];
 /// Cycles reaches relMSE 1e-3 after ≈ 3.8 s (`docs/performance.md`, "Peers").
 const CYCLES_AT_TARGET: (f64, f64) = (3.8, 1e-3);
 
-struct Row {
-    spp: u32,
-    seconds: f64,
-    rel_mse: f64,
-}
-
-fn main() {
-    // `cargo bench` passes `--bench` (and filters); this plain main takes no options.
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+/// Renders the four series, prints them and writes their CSVs and plot under `root`.
+pub fn run(root: &Path) {
     let scene = Scene::load(&root.join("scenes/cornell/cornell.gltf")).expect("load the Cornell glTF");
     let camera = scene.camera(&CameraSelector::Name("cornell".into())).expect("camera 'cornell'");
     let camera = camera.build(UVec2::splat(SIZE)).expect("build the camera");
@@ -140,22 +133,8 @@ fn main() {
 /// A series of rows and its crossing of the target.
 type Series = (Vec<Row>, Option<(f64, f64)>);
 
-/// Seconds (and spp) at which relMSE first falls to `target`: log–log interpolation between the
-/// last row above it and the first row at or below it.
-fn time_to(rows: &[Row], target: f64) -> Option<(f64, f64)> {
-    let i = rows.iter().position(|r| r.rel_mse <= target)?;
-    if i == 0 {
-        return Some((rows[0].seconds, rows[0].spp as f64));
-    }
-    let (a, b) = (&rows[i - 1], &rows[i]);
-    let f = (target.ln() - a.rel_mse.ln()) / (b.rel_mse.ln() - a.rel_mse.ln());
-    let lerp = |x: f64, y: f64| (x.ln() + f * (y.ln() - x.ln())).exp();
-    Some((lerp(a.seconds, b.seconds), lerp(a.spp as f64, b.spp as f64)))
-}
-
 fn plot(path: &Path, all: &[Series; 4]) -> Result<(), Box<dyn std::error::Error>> {
-    plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular())
-        .map_err(|_| "the bundled DejaVu Sans font did not load")?;
+    crate::register_font()?;
     let root = BitMapBackend::new(path, (1000, 700)).into_drawing_area();
     root.fill(&WHITE)?;
 
