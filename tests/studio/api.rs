@@ -191,7 +191,10 @@ async fn a_tab_far_behind_its_queue_ends_with_the_latest_state() {
         }
     }
     // 700 strokes sent 700 maps: fewer reached the slow tab, so it did fall behind the queue.
-    assert!(maps_read < 700, "the slow tab read all {maps_read} maps: it never fell behind, nothing is tested");
+    assert!(
+        maps_read < 700,
+        "the slow tab read all {maps_read} maps: it never fell behind, nothing is tested"
+    );
     assert!(caught_up, "the slow tab never got the last state");
     assert_eq!(seen_state, Some(seq), "the slow tab's last state is not the server's");
     assert!(seen_labels == labels, "the slow tab's label map is not the server's");

@@ -133,7 +133,7 @@ mod tests {
         assert_eq!(r.count(), 3);
         assert_eq!(r.index, [0, 0, 1, 1, 2, 0]);
         // Exactly what the batch tools read from the region image, for any map.
-        let (w, h) = (37, 11);
+        let (w, h) = (37u32, 11u32);
         for seed in 0..20u32 {
             let map: Vec<u8> = (0..w * h)
                 .map(|p| (((p / 5).wrapping_mul(2654435761) ^ seed) >> 13) as u8 % 9 * 31)
