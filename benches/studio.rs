@@ -4,7 +4,9 @@
 //! full-frame preview ≤ 150 ms, remap at the collage resolution ≤ 20 ms, a camera move to its
 //! thumbnail ≤ 100 ms, 8 cameras ≤ 1 GiB). Figures go to docs/performance.md.
 //!
-//! `cargo bench --bench studio` (`-- ROUNDS`, default 7).
+//! `cargo bench --bench studio` (`-- ROUNDS`, default 7; `-- remap ROUNDS`: the remap timings
+//! only, `-- strokes ROUNDS`: the remap and stroke timings only, e.g. under
+//! `valgrind --tool=callgrind`).
 
 use glam::UVec2;
 use mcc::lens_writer::pixel_centre_rays;
@@ -96,6 +98,11 @@ async fn session(rounds: usize) {
         tokio::time::sleep(Duration::from_millis(300)).await;
     }
     summary("stroke -> first full-frame preview (480x270, 4 cameras)", stroke_ms);
+    if std::env::args().any(|a| a == "strokes") {
+        drop(running);
+        let _ = std::fs::remove_dir_all(&dir);
+        return;
+    }
     let mut move_ms = Vec::new();
     for round in 0..rounds {
         let eye = fourth["eye"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect::<Vec<_>>();
@@ -144,6 +151,9 @@ async fn session(rounds: usize) {
 fn main() {
     let rounds = std::env::args().skip(1).find_map(|a| a.parse().ok()).unwrap_or(7);
     remap_timing(rounds);
+    if std::env::args().any(|a| a == "remap") {
+        return;
+    }
     let runtime = tokio::runtime::Builder::new_multi_thread().worker_threads(1).enable_all().build().unwrap();
     runtime.block_on(session(rounds));
 }

@@ -1,8 +1,10 @@
 //! Editing over the socket: paint, undo and redo, camera edits, the preview's progress, and a
 //! malformed message changing nothing.
 
-use super::{Client, Msg, RES, SETTINGS, decode, scratch, start, two_strokes, two_strokes_labels};
+use super::{Client, Msg, RES, SETTINGS, decode, scene, scratch, start, two_strokes, two_strokes_labels};
+use ::studio::Config;
 use serde_json::json;
+use std::time::Duration;
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn paint_undo_redo_and_camera_edits() {
@@ -128,6 +130,75 @@ async fn camera_edits_undo_in_order_and_tabs_see_each_other() {
         .until(|m| matches!(m, Msg::Json(v) if v["type"] == "labels" && decode(&v["data"]) == painted))
         .await;
     assert_eq!(seen.kind(), "labels");
+    drop(running);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A tab that stops reading while another makes many strokes falls behind the broadcast queue
+/// and loses messages; when it reads again it must still end with the server's maps and state
+/// (docs/studio.md, "Safe by default": tabs see each other's changes).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_tab_far_behind_its_queue_ends_with_the_latest_state() {
+    let dir = scratch("api-lag");
+    // Big maps (a labels message is ~90 kB) fill the stalled tab's socket buffers (a few MB)
+    // after a few dozen strokes; the queue (256 messages) overflows after a hundred more.
+    let res = [256u32, 256];
+    let config = Config { res, engine: SETTINGS, ..Config::new(Some(scene()), dir.clone()) };
+    let running = ::studio::serve(config).expect("the studio starts");
+    let mut slow = Client::connect(&running).await;
+    slow.hello().await;
+    let mut client = Client::connect(&running).await;
+    client.hello().await;
+    // Label strokes, then more region strokes than the queue holds: every labels message the
+    // slow tab has not read yet is gone from the queue.
+    for i in 0..300u32 {
+        let x = (i * 7) % (res[0] - 16);
+        client.paint([x, (i * 3) % (res[1] - 16), 16, 16], &[(i % 2) as u8; 256]).await;
+    }
+    for i in 0..400u32 {
+        client.paint_layer("regions", [(i * 5) % (res[0] - 8), 0, 8, 8], &[1 + (i % 5) as u8; 64]).await;
+    }
+    let state = client.hello().await;
+    let seq = state["seq"].clone();
+    let (mut labels, mut regions) = (None, None);
+    while labels.is_none() || regions.is_none() {
+        if let Msg::Json(v) = client.until(|m| m.kind() == "labels").await {
+            *if v["layer"] == "labels" { &mut labels } else { &mut regions } = Some(decode(&v["data"]));
+        }
+    }
+    // The slow tab reads again: whatever it keeps last of each kind must be the server's.
+    let (mut seen_state, mut seen_labels, mut seen_regions) = (None, None, None);
+    let (mut caught_up, mut maps_read) = (false, 0);
+    loop {
+        let wait = Duration::from_secs(if caught_up { 3 } else { 60 });
+        let Some(message) = slow.try_recv(wait).await else { break };
+        if let Msg::Json(v) = message {
+            match v["type"].as_str() {
+                Some("state") => {
+                    caught_up |= v["seq"] == seq;
+                    seen_state = Some(v["seq"].clone());
+                }
+                Some("labels") if v["layer"] == "labels" => {
+                    maps_read += 1;
+                    seen_labels = Some(decode(&v["data"]));
+                }
+                Some("labels") => {
+                    maps_read += 1;
+                    seen_regions = Some(decode(&v["data"]));
+                }
+                _ => {}
+            }
+        }
+    }
+    // 700 strokes sent 700 maps: fewer reached the slow tab, so it did fall behind the queue.
+    assert!(
+        maps_read < 700,
+        "the slow tab read all {maps_read} maps: it never fell behind, nothing is tested"
+    );
+    assert!(caught_up, "the slow tab never got the last state");
+    assert_eq!(seen_state, Some(seq), "the slow tab's last state is not the server's");
+    assert!(seen_labels == labels, "the slow tab's label map is not the server's");
+    assert!(seen_regions == regions, "the slow tab's region map is not the server's");
     drop(running);
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -3,6 +3,7 @@
 //! "Safe by default".
 
 mod api;
+mod preview;
 mod project;
 mod safety;
 
@@ -63,4 +64,26 @@ pub fn two_strokes_labels() -> Vec<u8> {
             _ => 0,
         })
         .collect()
+}
+
+/// `mcctrace rerender` (the CLI's library entry) on a saved project at `res` and `spp`, into
+/// `out` (EXR and PNG).
+pub fn rerender(project: &Path, res: [u32; 2], spp: u32, out: &Path) {
+    let args = [
+        "mcctrace".to_owned(),
+        "rerender".into(),
+        scene().display().to_string(),
+        "--collage".into(),
+        project.join("collage.png").display().to_string(),
+        "--rays".into(),
+        project.join("views").display().to_string(),
+        "--res".into(),
+        format!("{}x{}", res[0], res[1]),
+        "--spp".into(),
+        spp.to_string(),
+        "--quiet".into(),
+        "--out".into(),
+        out.display().to_string(),
+    ];
+    mcctrace_cli::try_run(args).expect("mcctrace rerender runs");
 }

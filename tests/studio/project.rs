@@ -2,30 +2,10 @@
 //! final" equals `mcctrace rerender` on it bit for bit, the idle preview equals the rerender at
 //! the preview settings, and a reopened project is the session saved.
 
-use super::{Client, Msg, RES, SETTINGS, decode, scene, scratch, start, two_strokes};
+use super::{Client, Msg, RES, SETTINGS, decode, rerender, scene, scratch, start, two_strokes};
 use serde_json::json;
 use std::path::Path;
 use tracer::image_io::{linear_to_srgb8, read_exr_rgb};
-
-fn rerender(project: &Path, res: [u32; 2], spp: u32, out: &Path) {
-    let args = [
-        "mcctrace".to_owned(),
-        "rerender".into(),
-        super::scene().display().to_string(),
-        "--collage".into(),
-        project.join("collage.png").display().to_string(),
-        "--rays".into(),
-        project.join("views").display().to_string(),
-        "--res".into(),
-        format!("{}x{}", res[0], res[1]),
-        "--spp".into(),
-        spp.to_string(),
-        "--quiet".into(),
-        "--out".into(),
-        out.display().to_string(),
-    ];
-    mcctrace_cli::try_run(args).expect("mcctrace rerender runs");
-}
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn saved_projects_feed_the_batch_commands_bit_for_bit() {

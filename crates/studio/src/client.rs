@@ -119,7 +119,12 @@ impl Client {
 
     /// Paints `bytes` at `rect` on the labels.
     pub async fn paint(&mut self, rect: [u32; 4], bytes: &[u8]) -> Value {
-        self.request(json!({"type": "paint", "layer": "labels", "rect": rect, "data": BASE64.encode(bytes)}))
+        self.paint_layer("labels", rect, bytes).await
+    }
+
+    /// Paints `bytes` at `rect` on `layer` ("labels" or "regions").
+    pub async fn paint_layer(&mut self, layer: &str, rect: [u32; 4], bytes: &[u8]) -> Value {
+        self.request(json!({"type": "paint", "layer": layer, "rect": rect, "data": BASE64.encode(bytes)}))
             .await
     }
 

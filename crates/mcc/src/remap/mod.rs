@@ -39,6 +39,7 @@ use crate::collage::{Collage, StrayReport};
 use crate::error::{MccError, Result};
 use crate::ray_file::{RayFile, StoredRay};
 use crate::regions::{RegionInfo, Regions};
+use std::borrow::Borrow;
 use std::collections::{BTreeMap, BTreeSet};
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -199,12 +200,12 @@ impl SourceRays {
         Ok(())
     }
 
-    /// Gathers from ray files already in memory (camera id → file).
-    pub fn gather(collage: &Collage, files: &BTreeMap<u32, RayFile>) -> Result<Self> {
+    /// Gathers from ray files already in memory (camera id → file, owned or borrowed).
+    pub fn gather<F: Borrow<RayFile>>(collage: &Collage, files: &BTreeMap<u32, F>) -> Result<Self> {
         let mut sources = Self::empty(collage);
         for id in collage.cameras() {
             let file = files.get(&id).ok_or_else(|| missing(id))?;
-            sources.fill(collage, id, file, Path::new(&format!("<camera {id} rays>")))?;
+            sources.fill(collage, id, file.borrow(), Path::new(&format!("<camera {id} rays>")))?;
         }
         Ok(sources)
     }
@@ -239,11 +240,12 @@ pub(crate) fn rows_mut(planes: &mut [Vec<f32>], width: usize) -> Vec<Vec<&mut [f
     rows
 }
 
-/// Remaps a collage with the views' ray files in memory (camera id → file). See [`remap_sources`].
-pub fn remap(
+/// Remaps a collage with the views' ray files in memory (camera id → file, owned or borrowed).
+/// See [`remap_sources`].
+pub fn remap<F: Borrow<RayFile>>(
     collage: &Collage,
     regions: &Regions,
-    files: &BTreeMap<u32, RayFile>,
+    files: &BTreeMap<u32, F>,
     frame: u32,
     config: &RemapConfig,
 ) -> Result<RemapOutput> {

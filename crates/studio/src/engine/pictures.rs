@@ -4,23 +4,50 @@
 
 use crate::camera::colour;
 use crate::error::{Result, StudioError};
+use image::codecs::png::{CompressionType, FilterType, PngEncoder};
 use image::{ImageEncoder, Rgb, RgbImage as Rgb8};
 use mcc::Regions;
+use mcc::regions::RegionInfo;
+use std::sync::LazyLock;
 use tracer::image::RgbImage;
 use tracer::image_io::linear_to_srgb8;
 
-/// PNG bytes of an 8-bit RGB picture.
+/// PNG bytes of an 8-bit RGB picture, compressed fast: the pictures go over loopback, where
+/// encoding time counts and size hardly does.
 pub fn png(image: &Rgb8) -> Result<Vec<u8>> {
     let mut out = Vec::new();
-    image::codecs::png::PngEncoder::new(&mut out)
+    PngEncoder::new_with_quality(&mut out, CompressionType::Fast, FilterType::Adaptive)
         .write_image(image.as_raw(), image.width(), image.height(), image::ExtendedColorType::Rgb8)
         .map_err(|e| StudioError::request(format!("encoding a picture: {e}")))?;
     Ok(out)
 }
 
-/// A linear render as 8-bit sRGB.
+/// `THRESHOLDS[k − 1]`: the smallest f32 that [`linear_to_srgb8`] maps to code k or above. The
+/// function is monotone, so a value's code is the number of thresholds at or below it: a binary
+/// search that gives its very bits without a `powf` per channel.
+static THRESHOLDS: LazyLock<[f32; 255]> = LazyLock::new(|| {
+    std::array::from_fn(|k| {
+        // Bisect on the bit patterns of [0, 1]: non-negative floats order as their bits.
+        let (mut low, mut high) = (0u32, 1f32.to_bits());
+        while low < high {
+            let mid = low + (high - low) / 2;
+            if linear_to_srgb8(f32::from_bits(mid)) as usize > k { high = mid } else { low = mid + 1 }
+        }
+        f32::from_bits(low)
+    })
+});
+
+/// [`linear_to_srgb8`], bit for bit, from [`THRESHOLDS`].
+fn srgb8(v: f32) -> u8 {
+    if !v.is_finite() {
+        return 0;
+    }
+    THRESHOLDS.partition_point(|&t| t <= v) as u8
+}
+
+/// A linear render as 8-bit sRGB (exactly [`linear_to_srgb8`] per channel).
 pub fn srgb(image: &RgbImage) -> Rgb8 {
-    let bytes = image.pixels.iter().flat_map(|p| p.to_array().map(linear_to_srgb8)).collect();
+    let bytes = image.pixels.iter().flat_map(|p| p.to_array().map(srgb8)).collect();
     Rgb8::from_raw(image.width, image.height, bytes).expect("the size matches the pixels")
 }
 
@@ -36,9 +63,25 @@ pub fn region_image(w: u32, h: u32, regions: &[u8]) -> Rgb8 {
 }
 
 /// The regions the remapper reads from the region map: those of its image, exactly as the
-/// batch tools read `collage-regions.png`.
+/// batch tools read `collage-regions.png` (numbered by first pixel, colours widened to 16-bit
+/// RGBA), made from the bytes without drawing the image (every byte has its own colour).
 pub fn regions(w: u32, h: u32, map: &[u8]) -> Regions {
-    Regions::from_image(&image::DynamicImage::ImageRgb8(region_image(w, h, map)))
+    let mut number = [u32::MAX; 256];
+    let mut info = Vec::new();
+    let index = map
+        .iter()
+        .enumerate()
+        .map(|(p, &k)| {
+            if number[k as usize] == u32::MAX {
+                number[k as usize] = info.len() as u32;
+                let [r, g, b] = region_colour(k).map(|c| c as u16 * 257);
+                let first = (p as u32 % w, p as u32 / w);
+                info.push(RegionInfo { colour: [r, g, b, u16::MAX], first, layer: None });
+            }
+            number[k as usize]
+        })
+        .collect();
+    Regions { width: w, height: h, index, info }
 }
 
 /// The label map in the cameras' colours, background black.
@@ -89,6 +132,33 @@ mod tests {
         let r = regions(3, 2, &map);
         assert_eq!(r.count(), 3);
         assert_eq!(r.index, [0, 0, 1, 1, 2, 0]);
+        // Exactly what the batch tools read from the region image, for any map.
+        let (w, h) = (37u32, 11u32);
+        for seed in 0..20u32 {
+            let map: Vec<u8> = (0..w * h)
+                .map(|p| (((p / 5).wrapping_mul(2654435761) ^ seed) >> 13) as u8 % 9 * 31)
+                .collect();
+            let image = image::DynamicImage::ImageRgb8(region_image(w, h, &map));
+            assert_eq!(regions(w, h, &map), Regions::from_image(&image), "seed {seed}");
+        }
+    }
+
+    #[test]
+    fn the_threshold_table_is_linear_to_srgb8_bit_for_bit() {
+        // Around every threshold, on a stride through every float in [0, 1], and the specials.
+        for &t in THRESHOLDS.iter() {
+            for bits in t.to_bits().saturating_sub(300)..t.to_bits() + 300 {
+                let v = f32::from_bits(bits);
+                assert_eq!(srgb8(v), linear_to_srgb8(v), "{v:e}");
+            }
+        }
+        for bits in (0..=1f32.to_bits() + 1000).step_by(997) {
+            let v = f32::from_bits(bits);
+            assert_eq!(srgb8(v), linear_to_srgb8(v), "{v:e}");
+        }
+        for v in [-0.0, -1e-30, -1.0, 1.0, 1.5, 1e30, f32::INFINITY, f32::NEG_INFINITY, f32::NAN, f32::MAX] {
+            assert_eq!(srgb8(v), linear_to_srgb8(v), "{v:e}");
+        }
     }
 
     #[test]

@@ -114,9 +114,9 @@ impl Worker {
         let painted = snap.labels.iter().any(|&l| l != 0);
         let debug = matches!(snap.view.0, ViewMode::Weights | ViewMode::Dominant);
         let remapped = if painted { Some(self.remap(snap, debug)?) } else { None };
-        if let Some(out) = &remapped {
-            let rays = Arc::new(out.rays.clone());
-            let image = self.rerender(&tracer, snap, &rays, coarse, 1, &stale)?;
+        let rays = remapped.as_ref().map(|out| Arc::new(out.rays.clone()));
+        if let Some(rays) = &rays {
+            let image = self.rerender(&tracer, snap, rays, coarse, 1, &stale)?;
             let views = &self.cameras;
             let full = composite(res.x, res.y, &image, &snap.labels, |k| {
                 views.get(&(k as u32)).and_then(|c| c.view.as_ref().or(c.thumb.as_ref()))
@@ -135,11 +135,10 @@ impl Worker {
                 }
             }
         }
-        if let Some(out) = &remapped {
-            let rays = Arc::new(out.rays.clone());
+        if let Some(rays) = &rays {
             let mut spp = 1;
             loop {
-                let mut image = self.rerender(&tracer, snap, &rays, res, spp, &stale)?;
+                let mut image = self.rerender(&tracer, snap, rays, res, spp, &stale)?;
                 if spp < view_spp {
                     // Painted pixels keep their camera's view samples until the rerender has
                     // as many there (it traces those very rays); from then on it is exactly
@@ -242,8 +241,7 @@ impl Worker {
         {
             return Ok(Arc::clone(out));
         }
-        let files: BTreeMap<u32, RayFile> =
-            used.iter().map(|id| (*id, self.cameras[id].rays.clone())).collect();
+        let files: BTreeMap<u32, &RayFile> = used.iter().map(|id| (*id, &self.cameras[id].rays)).collect();
         let regions = pictures::regions(w, hgt, &snap.regions);
         let config = RemapConfig { debug, ..remap_config(snap.seamless) };
         let out = Arc::new(remap(&collage, &regions, &files, snap.frame, &config)?);

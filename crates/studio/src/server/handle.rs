@@ -17,16 +17,23 @@ pub fn handle(shared: &Arc<Shared>, envelope: Envelope) -> Vec<Outbound> {
     }
 }
 
+/// The whole current state, as `hello` answers it (reply id `id`): the state, both maps and the
+/// latest picture of each kind.
+pub fn current(shared: &Shared, id: Option<u64>) -> Vec<Outbound> {
+    let session = shared.session();
+    let mut all = vec![session.state(id), session.labels(Layer::Labels), session.labels(Layer::Regions)];
+    drop(session);
+    all.extend(shared.latest());
+    all
+}
+
 fn run(shared: &Arc<Shared>, id: Option<u64>, request: Request) -> Result<Vec<Outbound>> {
     let mut session = shared.session();
     let mut layers: Vec<Layer> = Vec::new();
     match request {
         Request::Hello => {
-            let mut replies =
-                vec![session.state(id), session.labels(Layer::Labels), session.labels(Layer::Regions)];
             drop(session);
-            replies.extend(shared.latest());
-            return Ok(replies);
+            return Ok(current(shared, id));
         }
         Request::Paint { layer, rect, data } => {
             if session.paint(layer, rect, &data)? {

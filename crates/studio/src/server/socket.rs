@@ -1,7 +1,8 @@
 //! One tab's WebSocket (docs/studio.md, "Protocol"): text messages in, replies and the engine's
-//! broadcasts out (an image as its JSON header, then the PNG as one binary message).
+//! broadcasts out (an image as its JSON header, then the PNG as one binary message). A tab too
+//! slow for the broadcast queue gets the whole current state instead of what it missed.
 
-use super::handle::handle;
+use super::handle::{current, handle};
 use crate::engine::Shared;
 use crate::protocol::{Envelope, Outbound};
 use axum::extract::ws::{Message, WebSocket};
@@ -50,8 +51,15 @@ pub async fn serve_socket(mut socket: WebSocket, shared: Arc<Shared>) {
             outgoing = broadcasts.recv() => {
                 match outgoing {
                     Ok(message) => if !send(&mut socket, message).await { return; },
-                    // A slow tab misses pictures; newer ones follow.
-                    Err(RecvError::Lagged(_)) => continue,
+                    // The queue dropped messages for this tab: what is left of it may not hold
+                    // the last map or state, so skip it and send the whole current state
+                    // (taken after resubscribing: anything newer follows in the queue).
+                    Err(RecvError::Lagged(_)) => {
+                        broadcasts = broadcasts.resubscribe();
+                        for message in current(&shared, None) {
+                            if !send(&mut socket, message).await { return; }
+                        }
+                    }
                     Err(RecvError::Closed) => return,
                 }
             }
