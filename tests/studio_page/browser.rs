@@ -75,9 +75,14 @@ impl Browser {
 
     /// Polls `script` until it returns something other than null or false, for up to `limit`.
     pub async fn wait_for(&self, what: &str, script: &str, limit: Duration) -> Value {
+        self.wait_for_with(what, script, vec![], limit).await
+    }
+
+    /// [`Browser::wait_for`] with `args` as the script's `arguments`.
+    pub async fn wait_for_with(&self, what: &str, script: &str, args: Vec<Value>, limit: Duration) -> Value {
         let deadline = Instant::now() + limit;
         loop {
-            let v = self.js(script, vec![]).await;
+            let v = self.js(script, args.clone()).await;
             if !(v.is_null() || v == Value::Bool(false)) {
                 return v;
             }

@@ -1,15 +1,16 @@
 // The studio page (docs/studio.md): the collage canvas, its tools and the camera controls.
 // Every tool is rasterised here into `paint` patches (whole pixels, no antialiasing: each pixel is
-// one camera or the background), so the server needs no brush code. Images arrive as a JSON
-// header and one binary PNG; they are decoded off the main path (createImageBitmap) and dropped
-// when a newer `seq` has made them stale.
+// one camera or the background), so the server needs no brush code. Pictures arrive as a JSON
+// header and one binary PNG, which goes straight on to the picture worker (compose.js): it
+// decodes, drops what a newer `seq` has made stale, and draws each frame of the canvas off the
+// main thread; here a frame is only copied onto the canvas (docs/studio.md, "The page").
 'use strict';
 (() => {
   const $ = (id) => document.getElementById(id);
   const token = new URLSearchParams(location.search).get('token') || '';
   const canvas = $('canvas');
   const overlay = $('overlay');
-  const ctx = canvas.getContext('2d', { willReadFrequently: true });
+  const ctx = canvas.getContext('2d');
   const octx = overlay.getContext('2d');
 
   // What the page knows; `window.studio` lets the browser test read it.
@@ -17,11 +18,11 @@
     state: null, W: 0, H: 0, labels: null, regions: null,
     selected: 1, mode: 'final', tool: 'brush',
     seq: 0, imageSeq: new Map(), // newest seq per image kind and camera
-    preview: null, previewSpp: 0, previewSeq: -1, previews: 0, previewLog: [],
+    previewSpp: 0, previewSeq: -1, previews: 0, previewLog: [],
     savedDir: null, finalBytes: null, finalExr: null, loadedAt: null, paintPending: false, paints: 0,
-    sources: [], // per camera index: { data: RGBA at the collage size, seq, full }
-    view: null, viewMode: null, finalUrl: null,
-    selection: null, clipboard: null, paintIds: new Set(),
+    sources: [], // per camera index: { seq, full } of the picture the worker keeps of its view
+    finalUrl: null,
+    selection: null, clipboard: null, paintIds: new Set(), cameraIds: new Set(),
     // Replies go to every tab: ids start at random so one tab never takes another's as its own.
     nextId: 1 + Math.floor(Math.random() * 1e9),
     longTasks: [], errors: [],
@@ -37,23 +38,80 @@
     }).observe({ type: 'longtask', buffered: true });
   } catch (_) { /* not supported: nothing to record */ }
 
+  // The page's own handlers, timed: per handler its calls, total and longest; a call over 16 ms
+  // also as a `performance.measure` (it shows in a DevTools trace) and in `slowHandlers`.
+  // The browser test's draw hook is its code, not the page's: its time is left out.
+  S.handlers = {};
+  S.slowHandlers = [];
+  let hookMs = 0;
+  function timed(name, fn) {
+    return function timedHandler(...args) {
+      const t0 = performance.now();
+      const hook0 = hookMs;
+      try {
+        return fn.apply(this, args);
+      } finally {
+        const ms = performance.now() - t0 - (hookMs - hook0);
+        const h = S.handlers[name] || (S.handlers[name] = { calls: 0, ms: 0, max: 0 });
+        h.calls += 1;
+        h.ms += ms;
+        h.max = Math.max(h.max, ms);
+        if (ms > 16 && S.slowHandlers.length < 1000) {
+          performance.measure(name, { start: t0, duration: ms });
+          S.slowHandlers.push({ name, start: Math.round(t0), ms: Math.round(ms) });
+        }
+      }
+    };
+  }
+  // `target.addEventListener(type, …)` with the handler timed under `name` (default: the type).
+  const on = (target, type, fn, opts, name = type) => target.addEventListener(type, timed(name, fn), opts);
+
   // ---- the connection -------------------------------------------------------------------------
   let ws = null;
   let pendingImage = null;
+  let retries = 0;
+  S.reconnects = 0;
   function connect() {
     const scheme = location.protocol === 'https:' ? 'wss:' : 'ws:';
-    ws = new WebSocket(`${scheme}//${location.host}/ws?token=${encodeURIComponent(token)}`);
-    ws.binaryType = 'arraybuffer';
-    ws.onopen = () => { $('conn').textContent = 'connected'; send({ type: 'hello' }); };
-    ws.onclose = () => { $('conn').textContent = 'disconnected: reload the page'; };
-    ws.onmessage = (ev) => {
+    const socket = new WebSocket(`${scheme}//${location.host}/ws?token=${encodeURIComponent(token)}`);
+    ws = socket;
+    S.socket = socket;
+    socket.binaryType = 'arraybuffer';
+    socket.onopen = timed('socket open', () => {
+      retries = 0;
+      setConnection('connected', false);
+      send({ type: 'hello' });
+    });
+    // A lost connection is shown and tried again, waiting longer each time (½ s up to 8 s);
+    // `hello` then brings back the session as the server holds it. Strokes whose replies were
+    // lost are settled by the maps that come with it.
+    socket.onclose = timed('socket close', () => {
+      if (ws !== socket) return;
+      const wait = Math.min(8000, 500 * 2 ** retries);
+      retries += 1;
+      setConnection(`disconnected: trying again in ${(wait / 1000).toFixed(1)} s…`, true);
+      pendingImage = null;
+      S.paintIds.clear();
+      S.paintPending = false;
+      for (const layer of Object.keys(waitingLabels)) delete waitingLabels[layer];
+      setTimeout(timed('reconnect', () => { S.reconnects += 1; connect(); }), wait);
+    });
+    socket.onmessage = timed('socket message', (ev) => {
       if (typeof ev.data === 'string') onMessage(JSON.parse(ev.data));
       else onImageBytes(ev.data);
-    };
+    });
   }
+  S.connLog = [];
+  function setConnection(text, error) {
+    S.connLog.push(text);
+    $('conn').textContent = text;
+    $('conn').classList.toggle('error', error);
+  }
+  // Sends a message with a fresh id; while disconnected it is lost, and the user is told.
   function send(msg) {
     msg.id = S.nextId++;
     if (ws && ws.readyState === WebSocket.OPEN) ws.send(JSON.stringify(msg));
+    else note(`not connected: ${msg.type} was not sent`, true);
     return msg.id;
   }
 
@@ -74,8 +132,10 @@
     S.errors.push(m.message);
     note(m.message, true);
     if (m.id === S.finalId) { $('render-final').disabled = false; $('cancel-final').disabled = true; }
-    // A refused stroke leaves the page's optimistic copy wrong: ask for the server's maps again.
+    // A refused stroke or camera edit leaves the page's optimistic copy wrong: ask for the
+    // server's maps and cameras again.
     if (S.paintIds.has(m.id)) { paintDone(m.id); send({ type: 'hello' }); }
+    if (S.cameraIds.delete(m.id)) send({ type: 'hello' });
   }
 
   // Every tab's maps as the server holds them (strokes of other tabs too). While this tab's own
@@ -101,11 +161,22 @@
     bar.value = m.done;
   }
 
-  // ---- images -----------------------------------------------------------------------------------
+  // ---- pictures ---------------------------------------------------------------------------------
+  // The worker gets each picture's bytes (moved, not copied) with the mode it was asked in, and
+  // answers with what it accepted; the page keeps only what it shows in text.
+  const worker = new Worker(`assets/compose.js?token=${encodeURIComponent(token)}`);
+  worker.onerror = (e) => { S.errors.push(`picture worker: ${e.message}`); note('the picture worker failed: reload the page', true); };
+  worker.onmessage = timed('worker message', (e) => {
+    const m = e.data;
+    if (m.type === 'picture') onPicture(m);
+    else if (m.type === 'frame') onFrame(m);
+    else if (m.type === 'error') note(m.message, true);
+  });
+
   function imageKey(h) { return `${h.kind}:${h.camera ?? ''}`; }
   function stale(h) {
     // A preview is stale after any newer stroke or camera change; a camera's thumb or view only
-    // after a newer one of that camera.
+    // after a newer one of that camera (the worker checks again once it has decoded it).
     if (h.kind === 'preview') return h.seq < S.seq;
     return h.seq < (S.imageSeq.get(imageKey(h)) ?? -1);
   }
@@ -117,46 +188,27 @@
     if (stale(h)) return;
     S.imageSeq.set(imageKey(h), h.seq);
     if (h.kind === 'final') { showFinal(h, buf); return; }
-    const requestedMode = S.mode;
-    createImageBitmap(new Blob([buf], { type: 'image/png' })).then((bmp) => {
-      if (stale(h) || (S.imageSeq.get(imageKey(h)) ?? -1) > h.seq) { bmp.close(); return; }
-      onImage(h, bmp, requestedMode);
-    }, () => note(`could not decode a ${h.kind} image`, true));
+    worker.postMessage({ type: 'picture', h, buf, mode: S.mode, seq: S.seq }, [buf]);
   }
 
-  const scratch = document.createElement('canvas');
-  const sctx = scratch.getContext('2d', { willReadFrequently: true });
-  // The bitmap's pixels at the collage size (scaled if it is a coarse or thumbnail image).
-  function pixelsAtCollageSize(bmp) {
-    scratch.width = S.W;
-    scratch.height = S.H;
-    sctx.imageSmoothingEnabled = true;
-    sctx.drawImage(bmp, 0, 0, S.W, S.H);
-    return sctx.getImageData(0, 0, S.W, S.H).data;
-  }
-
-  function onImage(h, bmp, requestedMode) {
-    const full = bmp.width === S.W && bmp.height === S.H;
+  // A picture the worker decoded and kept.
+  function onPicture({ h, w, hgt, full, bmp, mode }) {
     if (S.loadedAt === null) S.loadedAt = performance.now();
     if (h.kind === 'preview') {
-      S.preview = pixelsAtCollageSize(bmp);
       const p = S.paintPending;
       if (p && (p.seq !== null ? h.seq >= p.seq : h.seq > p.after)) S.paintPending = false;
       S.previewSpp = h.spp;
       S.previewSeq = h.seq;
       S.previews += 1;
-      S.previewLog.push({ seq: h.seq, spp: h.spp, w: bmp.width, h: bmp.height, t: performance.now() });
-      $('preview-info').textContent = `preview ${bmp.width}×${bmp.height}, ${h.spp} spp`;
+      S.previewLog.push({ seq: h.seq, spp: h.spp, w, h: hgt, t: performance.now() });
+      $('preview-info').textContent = `preview ${w}×${hgt}, ${h.spp} spp`;
     } else if (h.kind === 'thumb') {
       drawThumb(h.camera, bmp);
+      bmp.close();
       const src = S.sources[h.camera];
-      if (!src || !src.full || src.seq < h.seq) S.sources[h.camera] = { data: pixelsAtCollageSize(bmp), seq: h.seq, full };
-    } else if (h.kind === 'view') {
-      S.view = bmp;
-      S.viewMode = requestedMode;
-      if (h.camera && requestedMode === 'source') {
-        S.sources[h.camera] = { data: pixelsAtCollageSize(bmp), seq: h.seq, full };
-      }
+      if (!src || !src.full || src.seq < h.seq) S.sources[h.camera] = { seq: h.seq, full };
+    } else if (h.kind === 'view' && h.camera && mode === 'source') {
+      S.sources[h.camera] = { seq: h.seq, full };
     }
     schedule();
   }
@@ -169,9 +221,13 @@
     c.getContext('2d').drawImage(bmp, 0, 0);
   }
 
-  // The final render is shown from the server's own PNG bytes, never re-encoded.
+  // The final render is shown from the server's own PNG bytes, never re-encoded. The same
+  // render again (`hello` re-sends the latest) changes nothing, nor hides a newer message.
   function showFinal(h, buf) {
-    S.finalBytes = new Uint8Array(buf);
+    const bytes = new Uint8Array(buf);
+    const old = S.finalBytes;
+    if (old && old.length === bytes.length && old.every((v, i) => v === bytes[i])) return;
+    S.finalBytes = bytes;
     if (S.finalUrl) URL.revokeObjectURL(S.finalUrl);
     S.finalUrl = URL.createObjectURL(new Blob([buf], { type: 'image/png' }));
     $('final-img').src = S.finalUrl;
@@ -191,9 +247,13 @@
   // ---- state ------------------------------------------------------------------------------------
   function applyState(st) {
     S.state = st;
-    if (Number.isFinite(st.seq)) S.seq = Math.max(S.seq, st.seq);
+    if (Number.isFinite(st.seq) && st.seq > S.seq) {
+      S.seq = st.seq;
+      worker.postMessage({ type: 'seq', seq: S.seq });
+    }
     if (S.paintPending && S.paintPending.id === st.id && Number.isFinite(st.seq)) S.paintPending.seq = st.seq;
     if (S.paintIds.has(st.id)) paintDone(st.id);
+    S.cameraIds.delete(st.id);
     const [w, h] = st.res;
     if (w !== S.W || h !== S.H) resize(w, h);
     if (!st.cameras.some((c) => c.index === S.selected) && st.cameras.length) S.selected = st.cameras[0].index;
@@ -212,9 +272,8 @@
     S.H = h;
     S.labels = new Uint8Array(w * h);
     S.regions = new Uint8Array(w * h);
-    S.out = new ImageData(w, h);
-    S.preview = null;
     S.sources = [];
+    worker.postMessage({ type: 'size', w, h });
     for (const c of [canvas, overlay]) { c.width = w; c.height = h; }
     fitCanvas();
   }
@@ -228,7 +287,7 @@
       c.style.height = `${S.H * scale}px`;
     }
   }
-  window.addEventListener('resize', fitCanvas);
+  on(window, 'resize', fitCanvas);
 
   function camera(index) { return S.state && S.state.cameras.find((c) => c.index === index); }
 
@@ -242,7 +301,7 @@
         li.dataset.index = c.index;
         li.innerHTML = '<span class="swatch"></span><span class="name"></span>'
           + '<button class="dup" title="Duplicate this camera">duplicate</button><canvas width="96" height="54"></canvas>';
-        li.addEventListener('click', (e) => {
+        on(li, 'click', (e) => {
           if (e.target.classList.contains('dup')) send({ type: 'camera_duplicate', index: c.index });
           else selectCamera(c.index);
         });
@@ -274,19 +333,18 @@
     form.fov.value = round(c.fov_deg);
   }
   const round = (v) => Math.round(v * 1e4) / 1e4;
-  form.addEventListener('change', () => {
+  on(form, 'change', () => {
     const c = camera(S.selected);
     if (!c) return;
+    // The server's `state` brings the edit back; until then (or if it refuses) the camera is
+    // as it held it.
     const num = (n, old) => (Number.isFinite(parseFloat(form[n].value)) ? parseFloat(form[n].value) : old);
-    c.eye = c.eye.map((v, i) => num(`eye${i}`, v));
-    c.target = c.target.map((v, i) => num(`target${i}`, v));
-    c.fov_deg = num('fov', c.fov_deg);
-    sendCamera(c);
+    sendCamera({ ...c, eye: c.eye.map((v, i) => num(`eye${i}`, v)), target: c.target.map((v, i) => num(`target${i}`, v)), fov_deg: num('fov', c.fov_deg) });
   });
-  form.addEventListener('submit', (e) => e.preventDefault());
+  on(form, 'submit', (e) => e.preventDefault());
 
   function sendCamera(c) {
-    send({ type: 'camera_edit', index: c.index, eye: c.eye, target: c.target, up: c.up, fov_deg: c.fov_deg });
+    S.cameraIds.add(send({ type: 'camera_edit', index: c.index, eye: c.eye, target: c.target, up: c.up, fov_deg: c.fov_deg }));
   }
 
   const sub = (a, b) => a.map((v, i) => v - b[i]);
@@ -322,7 +380,7 @@
     }
     fillCameraFormFrom(c);
     // At most one edit per 40 ms while dragging; the last one is always sent.
-    if (!camTimer) camTimer = setTimeout(() => { camTimer = 0; sendCamera(c); }, 40);
+    if (!camTimer) camTimer = setTimeout(timed('camera edit', () => { camTimer = 0; sendCamera(c); }), 40);
   }
   function fillCameraFormFrom(c) {
     for (let i = 0; i < 3; i++) { form[`eye${i}`].value = round(c.eye[i]); form[`target${i}`].value = round(c.target[i]); }
@@ -331,7 +389,7 @@
   // ---- views ------------------------------------------------------------------------------------
   function setView(mode) {
     S.mode = mode;
-    S.view = null;
+    worker.postMessage({ type: 'view' });
     for (const b of document.querySelectorAll('#views button')) b.classList.toggle('on', b.dataset.view === mode);
     const msg = { type: 'view', mode };
     if (mode === 'source' || mode === 'weights') msg.camera = S.selected;
@@ -339,58 +397,46 @@
     overlay.style.cursor = mode === 'source' ? 'grab' : 'crosshair';
     schedule();
   }
-  for (const b of document.querySelectorAll('#views button')) b.addEventListener('click', () => setView(b.dataset.view));
+  for (const b of document.querySelectorAll('#views button')) on(b, 'click', () => setView(b.dataset.view));
 
   // ---- drawing the canvas -----------------------------------------------------------------------
-  let frameRequested = false;
+  // At most one frame is asked of the worker per animation frame and one is on its way at a
+  // time: a burst of pictures or pointer moves makes one frame of the newest state. The maps go
+  // as copies, so the tools can keep changing the page's own while the worker draws.
+  let frameRequested = false, frameInFlight = false, dirty = false;
   function schedule() {
-    if (!frameRequested) { frameRequested = true; requestAnimationFrame(draw); }
+    dirty = true;
+    if (!frameRequested && !frameInFlight) { frameRequested = true; requestAnimationFrame(askFrame); }
   }
-
-  function hexColor(hex) { const v = parseInt(hex.slice(1), 16); return [v >> 16, (v >> 8) & 255, v & 255]; }
-  function regionColor(r) { return r ? [(r * 97) % 256, (r * 57 + 80) % 256, (r * 151 + 40) % 256] : [0, 0, 0]; }
-
-  function draw() {
+  const askFrame = timed('draw', () => {
     frameRequested = false;
     if (!S.W) return;
-    const o = S.out.data;
-    const n = S.W * S.H;
-    if (S.mode === 'final') {
-      // The server's preview is the composite (docs/studio.md, "Engine"), shown as it came.
-      // Only while a stroke waits for its preview do painted pixels take their camera's view
-      // (or thumbnail) here, so the paint shows at once.
-      const prev = S.preview;
-      const src = S.sources.map((s) => s && (S.paintPending || !prev) && s.data);
-      for (let i = 0, p = 0; i < n; i++, p += 4) {
-        const s = src[S.labels[i]] || prev;
-        if (s) { o[p] = s[p]; o[p + 1] = s[p + 1]; o[p + 2] = s[p + 2]; } else { o[p] = o[p + 1] = o[p + 2] = 0; }
-        o[p + 3] = 255;
-      }
-    } else if (S.mode === 'labels' || S.mode === 'regions') {
-      const map = S.mode === 'labels' ? S.labels : S.regions;
-      const table = [];
-      for (let v = 0; v < 256; v++) {
-        const c = S.mode === 'labels' ? camera(v) : null;
-        table.push(S.mode === 'labels' ? (c ? hexColor(c.color) : [0, 0, 0]) : regionColor(v));
-      }
-      for (let i = 0, p = 0; i < n; i++, p += 4) {
-        const c = table[map[i]];
-        o[p] = c[0]; o[p + 1] = c[1]; o[p + 2] = c[2]; o[p + 3] = 255;
-      }
-    } else {
-      ctx.fillStyle = '#000';
-      ctx.fillRect(0, 0, S.W, S.H);
-      const src = S.sources[S.selected];
-      if (S.view && S.viewMode === S.mode) ctx.drawImage(S.view, 0, 0, S.W, S.H);
-      else if (S.mode === 'source' && src) ctx.putImageData(new ImageData(new Uint8ClampedArray(src.data), S.W, S.H), 0, 0);
+    dirty = false;
+    frameInFlight = true;
+    const colors = [];
+    for (const c of S.state ? S.state.cameras : []) colors[c.index] = c.color;
+    const labels = S.labels.slice();
+    const regions = S.mode === 'regions' ? S.regions.slice() : null;
+    const msg = { type: 'compose', mode: S.mode, selected: S.selected, pending: !!S.paintPending, paints: S.paints, colors, labels, regions };
+    worker.postMessage(msg, regions ? [labels.buffer, regions.buffer] : [labels.buffer]);
+  });
+
+  // A frame from the worker: copied onto the canvas (one drawImage of a bitmap).
+  function onFrame({ bmp, shown }) {
+    frameInFlight = false;
+    if (bmp) {
+      ctx.drawImage(bmp, 0, 0);
+      bmp.close();
       drawOverlay();
-      return;
+      // What the canvas now shows, for the browser test's hook (`afterDraw`).
+      S.drawn = shown;
+      if (S.afterDraw) {
+        const t = performance.now();
+        S.afterDraw();
+        hookMs += performance.now() - t;
+      }
     }
-    ctx.putImageData(S.out, 0, 0);
-    drawOverlay();
-    // What the canvas now shows, for the browser test's hook (`afterDraw`).
-    S.drawn = { mode: S.mode, seq: S.previewSeq, spp: S.previewSpp };
-    if (S.afterDraw) S.afterDraw();
+    if (dirty) schedule();
   }
 
   function drawOverlay() {
@@ -419,9 +465,9 @@
   const paint = window.studioPaint(S, send, schedule);
   const { beginStroke, strokeTo, endStroke, copySelection, cut, paste, moveSelection, placePatch, clipRect } = paint;
 
-  $('cut').addEventListener('click', cut);
-  $('copy').addEventListener('click', copySelection);
-  $('paste').addEventListener('click', paste);
+  on($('cut'), 'click', cut);
+  on($('copy'), 'click', copySelection);
+  on($('paste'), 'click', paste);
 
   // ---- pointer input ----------------------------------------------------------------------------
   function pixelAt(e) {
@@ -429,8 +475,8 @@
     return { x: ((e.clientX - r.left) * S.W) / r.width, y: ((e.clientY - r.top) * S.H) / r.height };
   }
   let drag = null;
-  overlay.addEventListener('contextmenu', (e) => e.preventDefault());
-  overlay.addEventListener('pointerdown', (e) => {
+  on(overlay, 'contextmenu', (e) => e.preventDefault());
+  on(overlay, 'pointerdown', (e) => {
     if (!S.W || drag) return;
     overlay.setPointerCapture(e.pointerId);
     const p = pixelAt(e);
@@ -449,7 +495,7 @@
       drag = { kind: 'paint' };
     }
   });
-  overlay.addEventListener('pointermove', (e) => {
+  on(overlay, 'pointermove', (e) => {
     if (!drag) return;
     // Coalesced events keep every pixel a fast stroke crossed.
     const events = e.getCoalescedEvents ? e.getCoalescedEvents() : [e];
@@ -484,9 +530,9 @@
     else if (d.kind === 'orbit' || d.kind === 'pan') { clearTimeout(camTimer); camTimer = 0; sendCamera(d.camera); }
     schedule();
   }
-  overlay.addEventListener('pointerup', endDrag);
-  overlay.addEventListener('pointercancel', endDrag);
-  overlay.addEventListener('wheel', (e) => {
+  on(overlay, 'pointerup', endDrag);
+  on(overlay, 'pointercancel', endDrag);
+  on(overlay, 'wheel', (e) => {
     const c = camera(S.selected);
     if (S.mode !== 'source' || !c) return;
     e.preventDefault();
@@ -498,16 +544,16 @@
     S.tool = tool;
     for (const b of document.querySelectorAll('#tools button')) b.classList.toggle('on', b.dataset.tool === tool);
   }
-  for (const b of document.querySelectorAll('#tools button')) b.addEventListener('click', () => setTool(b.dataset.tool));
-  $('undo').addEventListener('click', () => send({ type: 'undo' }));
-  $('redo').addEventListener('click', () => send({ type: 'redo' }));
-  $('seamless').addEventListener('change', () => send({ type: 'settings', seamless: $('seamless').checked }));
-  $('frame').addEventListener('change', () => {
+  for (const b of document.querySelectorAll('#tools button')) on(b, 'click', () => setTool(b.dataset.tool));
+  on($('undo'), 'click', () => send({ type: 'undo' }));
+  on($('redo'), 'click', () => send({ type: 'redo' }));
+  on($('seamless'), 'change', () => send({ type: 'settings', seamless: $('seamless').checked }));
+  on($('frame'), 'change', () => {
     const f = parseInt($('frame').value, 10);
     if (Number.isFinite(f) && f >= 0) send({ type: 'frame', frame: f });
   });
-  $('save').addEventListener('click', () => { note('saving…'); send({ type: 'save' }); });
-  $('render-final').addEventListener('click', () => {
+  on($('save'), 'click', () => { note('saving…'); send({ type: 'save' }); });
+  on($('render-final'), 'click', () => {
     const w = parseInt($('final-w').value, 10), h = parseInt($('final-h').value, 10), spp = parseInt($('final-spp').value, 10);
     if (!(w > 0 && h > 0 && spp > 0)) { note('render final: size and spp must be positive whole numbers', true); return; }
     $('final-progress').value = 0;
@@ -515,8 +561,8 @@
     $('cancel-final').disabled = false;
     S.finalId = send({ type: 'render_final', res: [w, h], spp });
   });
-  $('cancel-final').addEventListener('click', () => send({ type: 'cancel_final' }));
-  document.addEventListener('keydown', (e) => {
+  on($('cancel-final'), 'click', () => send({ type: 'cancel_final' }));
+  on(document, 'keydown', (e) => {
     if (e.target.tagName === 'INPUT') return;
     const k = e.key.toLowerCase();
     if (e.ctrlKey || e.metaKey) {
