@@ -107,25 +107,9 @@ fn plot(path: &Path, rows: &[Row]) -> Result<(), Box<dyn std::error::Error>> {
     let (t_lo, t_hi) = (rows[0].seconds / 1.5, rows[rows.len() - 1].seconds * 1.5);
     let e_hi = rows[0].rel_mse.max(CYCLES_PRODUCT / t_lo) * 1.5;
     let e_lo = rows[rows.len() - 1].rel_mse.min(0.5 * CYCLES_PRODUCT / t_hi) / 1.5;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(
-            format!("Café `wide` {}×{}, 8 vertices: relMSE vs time, 2 seeds", SIZE.x, SIZE.y),
-            ("sans-serif", 26),
-        )
-        .margin(20)
-        .x_label_area_size(55)
-        .y_label_area_size(85)
-        .build_cartesian_2d((t_lo..t_hi).log_scale(), (e_lo..e_hi).log_scale())?;
-    chart
-        .configure_mesh()
-        .x_desc("time: scene preparation + render [s] (log)")
-        .y_desc("relMSE, variance part from two seeds (log)")
-        .x_label_formatter(&|v| format!("{}", (v * 1e3).round() / 1e3))
-        .y_label_formatter(&|v| format!("{v:.0e}"))
-        .label_style(("sans-serif", 17))
-        .axis_desc_style(("sans-serif", 19))
-        .light_line_style(RGBColor(235, 235, 235))
-        .draw()?;
+    let caption = format!("Café `wide` {}×{}, 8 vertices: relMSE vs time, 2 seeds", SIZE.x, SIZE.y);
+    let axes = ("time: scene preparation + render [s] (log)", "relMSE, variance part from two seeds (log)");
+    let mut chart = crate::log_log_chart(&root, &caption, axes, t_lo..t_hi, e_lo..e_hi)?;
     // Lines of constant time × relMSE: Cycles', and the target at half of it.
     let orange = RGBColor(230, 130, 0);
     let line = |k: f64| [(t_lo, k / t_lo), (t_hi, k / t_hi)];

@@ -147,28 +147,12 @@ fn plot(path: &Path, all: &[Series; 4]) -> Result<(), Box<dyn std::error::Error>
     let (t_lo, t_hi) = (t_lo / 1.5, t_hi * 1.5);
     let (e_lo, e_hi) = (e_lo.min(TARGET) / 1.5, e_hi * 1.5);
 
-    let mut chart = ChartBuilder::on(&root)
-        .caption(
-            format!(
-                "Cornell box {SIZE}², 4 bounces: relMSE vs render time ({} threads)",
-                rayon::current_num_threads()
-            ),
-            ("sans-serif", 26),
-        )
-        .margin(20)
-        .x_label_area_size(55)
-        .y_label_area_size(85)
-        .build_cartesian_2d((t_lo..t_hi).log_scale(), (e_lo..e_hi).log_scale())?;
-    chart
-        .configure_mesh()
-        .x_desc("render time [s] (log)")
-        .y_desc("relMSE vs Mitsuba 16384 spp (log)")
-        .x_label_formatter(&|v| format!("{}", (v * 1e3).round() / 1e3))
-        .y_label_formatter(&|v| format!("{v:.0e}"))
-        .label_style(("sans-serif", 17))
-        .axis_desc_style(("sans-serif", 19))
-        .light_line_style(RGBColor(235, 235, 235))
-        .draw()?;
+    let caption = format!(
+        "Cornell box {SIZE}², 4 bounces: relMSE vs render time ({} threads)",
+        rayon::current_num_threads()
+    );
+    let axes = ("render time [s] (log)", "relMSE vs Mitsuba 16384 spp (log)");
+    let mut chart = crate::log_log_chart(&root, &caption, axes, t_lo..t_hi, e_lo..e_hi)?;
 
     // The target line.
     let grey = RGBColor(120, 120, 120);

@@ -8,7 +8,10 @@
 mod cafe;
 mod cornell;
 
+use plotters::coord::Shift;
+use plotters::prelude::*;
 use plotters::style::FontStyle;
+use std::ops::Range;
 use std::path::PathBuf;
 
 /// One point of a series: samples per pixel, seconds, relMSE.
@@ -50,4 +53,34 @@ fn time_to(rows: &[Row], target: f64) -> Option<(f64, f64)> {
 fn register_font() -> Result<(), Box<dyn std::error::Error>> {
     plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular())
         .map_err(|_| "the bundled DejaVu Sans font did not load".into())
+}
+
+/// A log–log chart on `root` over seconds `t` and relMSE `e`, with its caption and axis names.
+type LogChart<'a, 'b> = ChartContext<'a, BitMapBackend<'b>, Cartesian2d<LogCoord<f64>, LogCoord<f64>>>;
+
+/// Draws a captioned log–log chart's frame and grid; the series go on the returned chart.
+fn log_log_chart<'a, 'b>(
+    root: &'a DrawingArea<BitMapBackend<'b>, Shift>,
+    caption: &str,
+    (x_desc, y_desc): (&str, &str),
+    t: Range<f64>,
+    e: Range<f64>,
+) -> Result<LogChart<'a, 'b>, Box<dyn std::error::Error>> {
+    let mut chart = ChartBuilder::on(root)
+        .caption(caption, ("sans-serif", 26))
+        .margin(20)
+        .x_label_area_size(55)
+        .y_label_area_size(85)
+        .build_cartesian_2d(t.log_scale(), e.log_scale())?;
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .x_label_formatter(&|v| format!("{}", (v * 1e3).round() / 1e3))
+        .y_label_formatter(&|v| format!("{v:.0e}"))
+        .label_style(("sans-serif", 17))
+        .axis_desc_style(("sans-serif", 19))
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()?;
+    Ok(chart)
 }

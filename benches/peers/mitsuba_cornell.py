@@ -1,5 +1,6 @@
-"""The peer on this machine: Mitsuba 3 on the Cornell box, timed as benches/convergence.rs times
-ours, so the two can be compared in one session (the machine is shared, and machines change).
+"""The peer on this machine: Mitsuba 3 on the Cornell box, timed as
+benches/convergence/cornell.rs times ours, so the two can be compared in one session (the
+machine is shared, and machines change).
 
 The scene is ours (scenes/cornell/*.obj, materials as in tests/data/cornell/README.md), rendered
 as the Mitsuba reference was: path tracer, max_depth 5 (4 scattering vertices), no roulette,
@@ -16,7 +17,7 @@ Run from the repository root:
         /tmp/mi/bin/python benches/peers/mitsuba_cornell.py [VARIANT] [SPP,SPP,...]
 VARIANT defaults to llvm_ad_rgb (the fastest CPU variant); scalar_rgb is the one-path-at-a-time
 variant. It prints CSV rows spp,seconds,rel_mse,M samples/s and the time at which relMSE first
-reaches 1e-3, interpolated on log–log axes as benches/convergence.rs does.
+reaches 1e-3, interpolated on log–log axes as benches/convergence/cornell.rs does.
 """
 
 import math

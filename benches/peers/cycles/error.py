@@ -11,18 +11,8 @@ import csv
 import os
 import sys
 
-import bpy  # noqa: F401  (Blender's image loader reads the EXRs)
 import numpy as np
-
-
-def load_rgb(path):
-    image = bpy.data.images.load(os.path.abspath(path), check_existing=False)
-    w, h = image.size
-    pixels = np.empty(w * h * image.channels, dtype=np.float32)
-    image.pixels.foreach_get(pixels)
-    rgb = pixels.reshape(h, w, image.channels)[:, :, :3].astype(np.float64)
-    bpy.data.images.remove(image)
-    return rgb
+from render import load_rgb  # Blender's image loader, as render.py reads its EXRs
 
 
 def main():
