@@ -213,13 +213,5 @@ fn plot(path: &Path, all: &[Series; 4]) -> Result<(), Box<dyn std::error::Error>
         .label("Blender Cycles: 1e-3 after ≈ 3.8 s")
         .legend(move |(x, y)| Circle::new((x + 12, y), 6, orange.filled()));
 
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .label_font(("sans-serif", 17))
-        .background_style(WHITE.mix(0.9))
-        .border_style(BLACK)
-        .draw()?;
-    root.present()?;
-    Ok(())
+    crate::finish_chart(&mut chart, &root)
 }

@@ -84,3 +84,19 @@ fn log_log_chart<'a, 'b>(
         .draw()?;
     Ok(chart)
 }
+
+/// Draws the legend in the upper right and writes the picture.
+fn finish_chart<'b: 'a, 'a>(
+    chart: &mut LogChart<'a, 'b>,
+    root: &DrawingArea<BitMapBackend<'b>, Shift>,
+) -> Result<(), Box<dyn std::error::Error>> {
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .label_font(("sans-serif", 17))
+        .background_style(WHITE.mix(0.9))
+        .border_style(BLACK)
+        .draw()?;
+    root.present()?;
+    Ok(())
+}
