@@ -5,7 +5,7 @@
 //! thumbnail ≤ 100 ms, 8 cameras ≤ 1 GiB). Figures go to docs/performance.md.
 //!
 //! `cargo bench --bench studio` (`-- ROUNDS`, default 7; `-- remap ROUNDS`: the remap timings
-//! only, `-- strokes ROUNDS`: the remap and stroke timings only, e.g. under
+//! only, `-- remap glassner ROUNDS`: the column's blend only, `-- strokes ROUNDS`: the remap and stroke timings only, e.g. under
 //! `valgrind --tool=callgrind`).
 
 use glam::UVec2;
@@ -63,7 +63,11 @@ fn remap_timing(rounds: usize) {
     let ids = strips(4).iter().map(|&l| l as u32).collect();
     let collage = Collage::new(RES[0], RES[1], ids).unwrap();
     let regions = Regions::single(RES[0], RES[1]);
+    let only_glassner = std::env::args().any(|a| a == "glassner");
     for (name, config) in [("glassner", RemapConfig::GLASSNER), ("seamless", RemapConfig::SEAMLESS)] {
+        if only_glassner && name != "glassner" {
+            continue;
+        }
         let ms = (0..rounds)
             .map(|_| {
                 let t = Instant::now();
