@@ -39,9 +39,65 @@ pub struct Texture {
     /// Height in texels.
     pub height: u32,
     /// `width × height` RGBA texels: linear, or with sRGB-encoded RGB when `srgb` is set.
-    pub texels: Vec<Vec4>,
+    pub texels: Texels,
     /// The texels' RGB is sRGB-encoded and decoded after filtering (alpha is always linear).
     pub srgb: bool,
+}
+
+/// Texel storage. Integer images keep their codes, read as code / max exactly as a float copy
+/// would hold them: a quarter (8-bit) or half (16-bit) of the memory, so that lookups, which
+/// mostly wait on memory, miss the caches less (docs/performance.md, ledger: "integer texels").
+#[derive(Clone, Debug, PartialEq)]
+pub enum Texels {
+    /// 8-bit RGBA codes; a texel reads as code / 255.
+    Unorm8(Vec<[u8; 4]>),
+    /// 16-bit RGBA codes; a texel reads as code / 65535.
+    Unorm16(Vec<[u16; 4]>),
+    /// RGBA floats.
+    Float(Vec<Vec4>),
+}
+
+impl Texels {
+    /// The number of texels.
+    pub fn len(&self) -> usize {
+        match self {
+            Self::Unorm8(t) => t.len(),
+            Self::Unorm16(t) => t.len(),
+            Self::Float(t) => t.len(),
+        }
+    }
+
+    /// True when there is no texel.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Texel `i` as stored (still sRGB-encoded where the texture is).
+    #[inline]
+    pub fn get(&self, i: usize) -> Vec4 {
+        match self {
+            Self::Unorm8(t) => unorm8(t[i]),
+            Self::Unorm16(t) => unorm16(t[i]),
+            Self::Float(t) => t[i],
+        }
+    }
+
+    /// Every texel as stored, in order.
+    pub fn iter(&self) -> impl Iterator<Item = Vec4> + '_ {
+        (0..self.len()).map(|i| self.get(i))
+    }
+}
+
+/// An 8-bit texel as floats: each lane's division is the scalar `code as f32 / 255.0`.
+#[inline(always)]
+fn unorm8(c: [u8; 4]) -> Vec4 {
+    Vec4::new(c[0] as f32, c[1] as f32, c[2] as f32, c[3] as f32) / 255.0
+}
+
+/// A 16-bit texel as floats: each lane's division is the scalar `code as f32 / 65535.0`.
+#[inline(always)]
+fn unorm16(c: [u16; 4]) -> Vec4 {
+    Vec4::new(c[0] as f32, c[1] as f32, c[2] as f32, c[3] as f32) / 65535.0
 }
 
 /// A material's use of a texture: which image, which coordinate set, how it is sampled.
@@ -79,38 +135,32 @@ impl TextureRef {
 impl Texture {
     /// A texture from linear texels (`width × height`, row-major from the top).
     pub fn new(name: impl Into<String>, width: u32, height: u32, texels: Vec<Vec4>) -> Self {
-        debug_assert_eq!(texels.len(), width as usize * height as usize);
-        Self { name: name.into(), width, height, texels, srgb: false }
+        Self::from_texels(name, width, height, Texels::Float(texels), false)
     }
 
-    /// A texture from texels whose RGB is sRGB-encoded (in [0, 1]; alpha linear): lookups
-    /// filter the encoded values and decode the result.
+    /// A texture from texels in any storage; `srgb`: their RGB is sRGB-encoded (in [0, 1];
+    /// alpha linear), and lookups filter the encoded values and decode the result.
+    pub fn from_texels(name: impl Into<String>, width: u32, height: u32, texels: Texels, srgb: bool) -> Self {
+        debug_assert_eq!(texels.len(), width as usize * height as usize);
+        Self { name: name.into(), width, height, texels, srgb }
+    }
+
+    /// A texture from float texels whose RGB is sRGB-encoded (see [`Texture::from_texels`]).
     pub fn srgb_encoded(name: impl Into<String>, width: u32, height: u32, texels: Vec<Vec4>) -> Self {
-        Self { srgb: true, ..Self::new(name, width, height, texels) }
+        Self::from_texels(name, width, height, Texels::Float(texels), true)
     }
 
     /// Texel `i` (row-major) as a linear value, decoded if stored encoded.
     pub fn linear_texel(&self, i: usize) -> Vec4 {
-        if self.srgb { srgb_to_linear(self.texels[i]) } else { self.texels[i] }
+        let t = self.texels.get(i);
+        if self.srgb { srgb_to_linear(t) } else { t }
     }
 
-    /// The same texture with linear texels (for uses that read texels directly, such as an
-    /// environment map's importance sampling).
-    pub fn into_linear(mut self) -> Self {
-        if self.srgb {
-            for t in &mut self.texels {
-                *t = srgb_to_linear(*t);
-            }
-            self.srgb = false;
-        }
-        self
-    }
-
-    #[inline]
-    fn texel(&self, x: i64, y: i64, wrap: [Wrap; 2]) -> Vec4 {
-        let x = wrap_index(x, self.width as i64, wrap[0]);
-        let y = wrap_index(y, self.height as i64, wrap[1]);
-        self.texels[y * self.width as usize + x]
+    /// The same texture with linear float texels (for uses that read texels directly, such as
+    /// an environment map's importance sampling).
+    pub fn into_linear(self) -> Self {
+        let texels = Texels::Float((0..self.texels.len()).map(|i| self.linear_texel(i)).collect());
+        Self { texels, srgb: false, ..self }
     }
 
     /// The linear value at texture coordinates `uv`.
@@ -123,23 +173,41 @@ impl Texture {
     /// The texels' filtered value at `uv`, still encoded as stored.
     #[inline]
     fn filtered(&self, uv: Vec2, wrap: [Wrap; 2], filter: Filter) -> Vec4 {
+        // One match per lookup, outside the texel reads.
+        match &self.texels {
+            Texels::Unorm8(t) => self.filter_with(uv, wrap, filter, |i| unorm8(t[i])),
+            Texels::Unorm16(t) => self.filter_with(uv, wrap, filter, |i| unorm16(t[i])),
+            Texels::Float(t) => self.filter_with(uv, wrap, filter, |i| t[i]),
+        }
+    }
+
+    /// [`Texture::filtered`] over texels read by `texel(i)`.
+    #[inline(always)]
+    fn filter_with(&self, uv: Vec2, wrap: [Wrap; 2], filter: Filter, texel: impl Fn(usize) -> Vec4) -> Vec4 {
         if self.texels.is_empty() {
             return Vec4::ZERO;
         }
         // Texel centres sit at half-integer positions.
         let p = uv * Vec2::new(self.width as f32, self.height as f32);
         if !p.is_finite() {
-            return self.texels[0];
+            return texel(0);
         }
+        let (w, h) = (self.width as i64, self.height as i64);
         match filter {
-            Filter::Nearest => self.texel(p.x.floor() as i64, p.y.floor() as i64, wrap),
+            Filter::Nearest => {
+                let x = wrap_index(p.x.floor() as i64, w, wrap[0]);
+                let y = wrap_index(p.y.floor() as i64, h, wrap[1]);
+                texel(y * w as usize + x)
+            }
             Filter::Linear => {
                 let p = p - Vec2::splat(0.5);
                 let (x0, y0) = (p.x.floor(), p.y.floor());
                 let (fx, fy) = (p.x - x0, p.y - y0);
-                let (x0, y0) = (x0 as i64, y0 as i64);
-                let top = self.texel(x0, y0, wrap).lerp(self.texel(x0 + 1, y0, wrap), fx);
-                let bottom = self.texel(x0, y0 + 1, wrap).lerp(self.texel(x0 + 1, y0 + 1, wrap), fx);
+                let (x0, x1) = wrap_pair(x0 as i64, w, wrap[0]);
+                let (y0, y1) = wrap_pair(y0 as i64, h, wrap[1]);
+                let (row0, row1) = (y0 * w as usize, y1 * w as usize);
+                let top = texel(row0 + x0).lerp(texel(row0 + x1), fx);
+                let bottom = texel(row1 + x0).lerp(texel(row1 + x1), fx);
                 top.lerp(bottom, fy)
             }
         }
@@ -155,6 +223,18 @@ fn srgb_to_linear(v: Vec4) -> Vec4 {
     let eotf =
         |s: f32| if s <= 0.04045 { s * (1.0 / 12.92) } else { ((s + 0.055) * (1.0 / 1.055)).powf(2.4) };
     Vec4::new(eotf(v.x), eotf(v.y), eotf(v.z), v.w)
+}
+
+/// The wrapped indices of `i` and `i + 1`, with one division where two would do.
+#[inline(always)]
+fn wrap_pair(i: i64, n: i64, wrap: Wrap) -> (usize, usize) {
+    match wrap {
+        Wrap::Repeat => {
+            let a = i.rem_euclid(n);
+            (a as usize, if a + 1 == n { 0 } else { a as usize + 1 })
+        }
+        _ => (wrap_index(i, n, wrap), wrap_index(i.wrapping_add(1), n, wrap)),
+    }
 }
 
 #[inline]
@@ -229,6 +309,64 @@ mod tests {
         let t = Texture::srgb_encoded("s", 1, 1, vec![Vec4::new(code, code, code, 1.0)]);
         let v = t.sample(Vec2::splat(0.5), w, Filter::Nearest);
         assert!((v.x - crate::image_io::srgb8_to_linear(60)).abs() < 1e-6, "{v}");
+    }
+
+    /// Integer texels read exactly as the float copy a loader would have made of them (code as
+    /// f32 / max), through every filter and wrap, encoded or not: the storage saves memory
+    /// and changes no bit.
+    #[test]
+    fn integer_texels_filter_as_their_float_copies() {
+        let mut seed = 0x9e37_79b9u32;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            seed
+        };
+        let (w, h) = (5, 3);
+        let codes8: Vec<[u8; 4]> = (0..w * h).map(|_| next().to_le_bytes()).collect();
+        let codes16: Vec<[u16; 4]> = (0..w * h).map(|_| [0; 4].map(|_: u16| next() as u16)).collect();
+        let float8: Vec<Vec4> =
+            codes8.iter().map(|c| Vec4::from_array(c.map(|v| v as f32 / 255.0))).collect();
+        let float16: Vec<Vec4> =
+            codes16.iter().map(|c| Vec4::from_array(c.map(|v| v as f32 / 65535.0))).collect();
+        for srgb in [false, true] {
+            let pairs = [
+                (Texels::Unorm8(codes8.clone()), Texels::Float(float8.clone())),
+                (Texels::Unorm16(codes16.clone()), Texels::Float(float16.clone())),
+            ];
+            for (codes, floats) in pairs {
+                let a = Texture::from_texels("codes", w, h, codes, srgb);
+                let b = Texture::from_texels("floats", w, h, floats, srgb);
+                for _ in 0..2000 {
+                    let uv = Vec2::new(next() as f32 / u32::MAX as f32, next() as f32 / u32::MAX as f32)
+                        * 6.0
+                        - 3.0;
+                    for wrap in [Wrap::Repeat, Wrap::ClampToEdge, Wrap::MirroredRepeat] {
+                        for filter in [Filter::Nearest, Filter::Linear] {
+                            let (x, y) = (a.sample(uv, [wrap; 2], filter), b.sample(uv, [wrap; 2], filter));
+                            assert_eq!(
+                                x.to_array().map(f32::to_bits),
+                                y.to_array().map(f32::to_bits),
+                                "{uv}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// The pair of wrapped neighbours is the two wraps taken one at a time.
+    #[test]
+    fn wrapped_pairs_are_single_wraps() {
+        for n in 1..6 {
+            for i in -20..20 {
+                for wrap in [Wrap::Repeat, Wrap::ClampToEdge, Wrap::MirroredRepeat] {
+                    assert_eq!(wrap_pair(i, n, wrap), (wrap_index(i, n, wrap), wrap_index(i + 1, n, wrap)));
+                }
+            }
+        }
     }
 
     /// The extension's GLSL, evaluated by hand: offset (0.5, 0), rotation π/2, scale 2 takes

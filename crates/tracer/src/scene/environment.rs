@@ -15,7 +15,7 @@
 use super::EnvironmentMap;
 use super::images::{self, ColorSpace};
 use crate::error::{Result, TracerError};
-use crate::texture::Texture;
+use crate::texture::{Texels, Texture};
 use glam::Vec4;
 use std::path::Path;
 
@@ -48,10 +48,8 @@ impl EnvironmentMap {
             let (x, y) = (i % texture.width as usize, i / texture.width as usize);
             return Err(bad(format!("pixel ({x}, {y}) of the environment image is not finite")));
         }
-        for t in &mut texture.texels {
-            *t = t.max(Vec4::ZERO);
-            t.w = 1.0;
-        }
+        let texels = texture.texels.iter().map(|t| t.max(Vec4::ZERO).truncate().extend(1.0)).collect();
+        texture.texels = Texels::Float(texels);
         Ok(Self { texture, rotation: rotation_radians, strength })
     }
 
@@ -89,13 +87,13 @@ mod tests {
         let map = EnvironmentMap::load(&exr, 0.5, 2.0).unwrap();
         assert_eq!((map.texture.width, map.texture.height, map.rotation, map.strength), (8, 4, 0.5, 2.0));
         // Row-major from the top; negative values clamped.
-        assert_eq!(map.texture.texels[8 + 5], Vec4::new(2.0, 0.0, 0.5, 1.0));
+        assert_eq!(map.texture.texels.get(8 + 5), Vec4::new(2.0, 0.0, 0.5, 1.0));
         assert!(map.warnings().is_empty(), "{:?}", map.warnings());
 
         let png = dir.0.join("sky.png");
         crate::image_io::write_png_rgb8(&png, 3, 1, &[128, 128, 128, 255, 0, 0, 0, 0, 0]).unwrap();
         let map = EnvironmentMap::load(&png, 0.0, 1.0).unwrap();
-        assert!((map.texture.texels[0].x - 0.215_860_5).abs() < 1e-6);
+        assert!((map.texture.texels.get(0).x - 0.215_860_5).abs() < 1e-6);
         let warnings = map.warnings().join("\n");
         assert!(warnings.contains("sky.png") && warnings.contains("3 × 1, not 2:1"), "{warnings}");
     }

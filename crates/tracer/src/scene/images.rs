@@ -12,7 +12,7 @@
 //! Loaders turn a failed decode into a warning naming the image and leave the slot that wanted
 //! it empty (the factor alone applies). Never an error, never a panic.
 
-use crate::texture::Texture;
+use crate::texture::{Texels, Texture};
 use glam::Vec4;
 use image::{DynamicImage, ImageFormat, ImageReader, Limits};
 use std::io::Cursor;
@@ -58,53 +58,49 @@ pub(in crate::scene) fn is_greyscale(image: &DynamicImage) -> bool {
     !image.color().has_color()
 }
 
-/// Interleaved samples, `channels` per pixel (1 grey, 2 grey + alpha, 3 RGB, 4 RGBA), to RGBA.
-fn texels<T: Copy>(
-    samples: &[T],
-    channels: usize,
-    colour: impl Fn(T) -> f32,
-    alpha: impl Fn(T) -> f32,
-) -> Vec<Vec4> {
+/// Interleaved samples, `channels` per pixel (1 grey, 2 grey + alpha, 3 RGB, 4 RGBA), to RGBA
+/// with `opaque` as the alpha of images without one.
+fn texels<T: Copy>(samples: &[T], channels: usize, opaque: T) -> Vec<[T; 4]> {
     samples
         .chunks_exact(channels)
-        .map(|p| match p {
-            [l] => Vec4::new(colour(*l), colour(*l), colour(*l), 1.0),
-            [l, a] => Vec4::new(colour(*l), colour(*l), colour(*l), alpha(*a)),
-            [r, g, b] => Vec4::new(colour(*r), colour(*g), colour(*b), 1.0),
-            [r, g, b, a, ..] => Vec4::new(colour(*r), colour(*g), colour(*b), alpha(*a)),
-            [] => Vec4::ZERO,
+        .map(|p| match *p {
+            [l] => [l, l, l, opaque],
+            [l, a] => [l, l, l, a],
+            [r, g, b] => [r, g, b, opaque],
+            [r, g, b, a, ..] => [r, g, b, a],
+            [] => [opaque; 4],
         })
         .collect()
 }
 
-/// The texels of a decoded image. Integer sRGB colour keeps its encoded values, decoded after
-/// filtering ([`Texture::srgb_encoded`], as Cycles does: docs/design.md §3.10); linear data is
-/// scaled to [0, 1]; float images are linear already.
+/// The texels of a decoded image. Integer images keep their codes ([`Texels`]); integer sRGB
+/// colour stays encoded, decoded after filtering (as Cycles does: docs/design.md §3.10); linear
+/// data reads as code / max; float images are linear already.
 pub(in crate::scene) fn to_texture(name: String, image: &DynamicImage, space: ColorSpace) -> Texture {
-    let c8 = |v: u8| v as f32 / 255.0;
-    let c16 = |v: u16| v as f32 / 65535.0;
     // Float images hold linear values already; non-finite ones would poison every lookup.
-    let f = |v: f32| if v.is_finite() { v } else { 0.0 };
-    let (data, integer) = match image {
-        DynamicImage::ImageLuma8(i) => (texels(i.as_raw(), 1, c8, c8), true),
-        DynamicImage::ImageLumaA8(i) => (texels(i.as_raw(), 2, c8, c8), true),
-        DynamicImage::ImageRgb8(i) => (texels(i.as_raw(), 3, c8, c8), true),
-        DynamicImage::ImageRgba8(i) => (texels(i.as_raw(), 4, c8, c8), true),
-        DynamicImage::ImageLuma16(i) => (texels(i.as_raw(), 1, c16, c16), true),
-        DynamicImage::ImageLumaA16(i) => (texels(i.as_raw(), 2, c16, c16), true),
-        DynamicImage::ImageRgb16(i) => (texels(i.as_raw(), 3, c16, c16), true),
-        DynamicImage::ImageRgba16(i) => (texels(i.as_raw(), 4, c16, c16), true),
-        DynamicImage::ImageRgb32F(i) => (texels(i.as_raw(), 3, f, f), false),
-        DynamicImage::ImageRgba32F(i) => (texels(i.as_raw(), 4, f, f), false),
+    let float = |samples: &[f32], channels| {
+        let finite = |v: f32| if v.is_finite() { v } else { 0.0 };
+        Texels::Float(
+            texels(samples, channels, 1.0).into_iter().map(|t| Vec4::from_array(t.map(finite))).collect(),
+        )
+    };
+    let data = match image {
+        DynamicImage::ImageLuma8(i) => Texels::Unorm8(texels(i.as_raw(), 1, u8::MAX)),
+        DynamicImage::ImageLumaA8(i) => Texels::Unorm8(texels(i.as_raw(), 2, u8::MAX)),
+        DynamicImage::ImageRgb8(i) => Texels::Unorm8(texels(i.as_raw(), 3, u8::MAX)),
+        DynamicImage::ImageRgba8(i) => Texels::Unorm8(texels(i.as_raw(), 4, u8::MAX)),
+        DynamicImage::ImageLuma16(i) => Texels::Unorm16(texels(i.as_raw(), 1, u16::MAX)),
+        DynamicImage::ImageLumaA16(i) => Texels::Unorm16(texels(i.as_raw(), 2, u16::MAX)),
+        DynamicImage::ImageRgb16(i) => Texels::Unorm16(texels(i.as_raw(), 3, u16::MAX)),
+        DynamicImage::ImageRgba16(i) => Texels::Unorm16(texels(i.as_raw(), 4, u16::MAX)),
+        DynamicImage::ImageRgb32F(i) => float(i.as_raw(), 3),
+        DynamicImage::ImageRgba32F(i) => float(i.as_raw(), 4),
         // Layouts added to the image crate later: through 16-bit RGBA, which loses nothing an
         // 8/16-bit texture had.
-        other => (texels(other.to_rgba16().as_raw(), 4, c16, c16), true),
+        other => Texels::Unorm16(texels(other.to_rgba16().as_raw(), 4, u16::MAX)),
     };
-    if integer && space == ColorSpace::Srgb {
-        Texture::srgb_encoded(name, image.width(), image.height(), data)
-    } else {
-        Texture::new(name, image.width(), image.height(), data)
-    }
+    let srgb = !matches!(data, Texels::Float(_)) && space == ColorSpace::Srgb;
+    Texture::from_texels(name, image.width(), image.height(), data, srgb)
 }
 
 #[cfg(test)]
@@ -132,10 +128,10 @@ mod tests {
         let decoded = decode(&bytes).unwrap();
         assert!(is_greyscale(&decoded));
         let t = to_texture("g".into(), &decoded, ColorSpace::Srgb);
-        assert!(t.srgb && (t.texels[0].x - 128.0 / 255.0).abs() < 1e-7);
+        assert!(t.srgb && (t.texels.get(0).x - 128.0 / 255.0).abs() < 1e-7);
         assert!((texel(&t, 0) - Vec4::new(srgb128, srgb128, srgb128, 1.0)).abs().max_element() < 1e-6);
         let t = to_texture("g".into(), &decoded, ColorSpace::Linear);
-        assert!(!t.srgb && (t.texels[0].x - 128.0 / 255.0).abs() < 1e-7);
+        assert!(!t.srgb && (t.texels.get(0).x - 128.0 / 255.0).abs() < 1e-7);
 
         let ga = DynamicImage::ImageLumaA8(ImageBuffer::from_pixel(1, 1, LumaA([255u8, 128])));
         let t = to_texture("ga".into(), &decode(&encode(ga, ImageFormat::Png)).unwrap(), ColorSpace::Srgb);
@@ -161,14 +157,14 @@ mod tests {
         let l16 = DynamicImage::ImageLuma16(ImageBuffer::from_pixel(1, 1, Luma([65535u16])));
         let t =
             to_texture("l16".into(), &decode(&encode(l16, ImageFormat::Png)).unwrap(), ColorSpace::Linear);
-        assert_eq!(t.texels[0], Vec4::ONE);
+        assert_eq!(t.texels.get(0), Vec4::ONE);
 
         // JPEG is lossy: a flat colour comes back within a few codes.
         let jpeg = DynamicImage::ImageRgb8(ImageBuffer::from_pixel(8, 8, Rgb([200u8, 100, 50])));
         let t =
             to_texture("j".into(), &decode(&encode(jpeg, ImageFormat::Jpeg)).unwrap(), ColorSpace::Linear);
         let want = Vec4::new(200.0, 100.0, 50.0, 255.0) / 255.0;
-        assert!((t.texels[27] - want).abs().max_element() < 4.0 / 255.0, "{}", t.texels[27]);
+        assert!((t.texels.get(27) - want).abs().max_element() < 4.0 / 255.0, "{}", t.texels.get(27));
     }
 
     fn crc32(bytes: &[u8]) -> u32 {

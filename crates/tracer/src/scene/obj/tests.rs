@@ -98,7 +98,7 @@ fn scene_obj_textures_alpha_and_glass() {
     assert_eq!(leaf.alpha_mode, AlphaMode::Mask { cutoff: 0.5 });
     let (normal, scale) = leaf.textures.normal.unwrap();
     assert_eq!(scale, 0.5);
-    assert!((scene.textures[normal.texture as usize].texels[0].x - 128.0 / 255.0).abs() < 1e-6, "linear");
+    assert!((scene.textures[normal.texture as usize].texels.get(0).x - 128.0 / 255.0).abs() < 1e-6, "linear");
 
     // glow: Ke 1 under map_Ke; d 0.5 blends.
     let glow = m("glow");
