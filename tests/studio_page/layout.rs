@@ -1,14 +1,15 @@
-//! The browser test's geometry at one collage size: the size (160×90 in CI, another one by
-//! `STUDIO_PAGE_RES=WxH`, as docs/performance.md §1.6 runs it at the 480×270), and the
+//! The browser test's geometry at one collage size: the size (160×90 by default, for a quick run;
+//! another one by `STUDIO_PAGE_RES=WxH`, as CI runs it at the 480×270, docs/performance.md
+//! §1.6), and the
 //! brush, strokes, camera drag, browser window and waits, laid out at 160×90 and scaled with it,
 //! so every check of the test means the same at any size.
 
 use std::time::Duration;
 
-/// The environment variable that picks the collage size, `WxH`; unset, the CI size.
+/// The environment variable that picks the collage size, `WxH`; unset, the default size.
 pub const RES_VAR: &str = "STUDIO_PAGE_RES";
-/// The collage size CI runs: small, so the preview converges quickly on two loaded cores.
-const CI_RES: (u32, u32) = (160, 90);
+/// The default collage size: small, so the preview converges quickly on two loaded cores.
+const DEFAULT_RES: (u32, u32) = (160, 90);
 /// The largest size the test lays out: the page at 2× must fit a 1920×1080-class window.
 const MAX_RES: (u32, u32) = (1920, 1080);
 /// The brush diameter at 160×90, in collage pixels.
@@ -38,11 +39,11 @@ pub struct Layout {
 }
 
 impl Layout {
-    /// The layout at the size [`RES_VAR`] names, or at the CI size when it is unset.
+    /// The layout at the size [`RES_VAR`] names, or at the default size when it is unset.
     pub fn from_env() -> Result<Self, String> {
         match std::env::var(RES_VAR) {
             Ok(text) => Ok(Self::at(parse_res(&text)?)),
-            Err(std::env::VarError::NotPresent) => Ok(Self::at(CI_RES)),
+            Err(std::env::VarError::NotPresent) => Ok(Self::at(DEFAULT_RES)),
             Err(e) => Err(format!("{RES_VAR}: {e}")),
         }
     }
@@ -50,11 +51,11 @@ impl Layout {
     /// The 160×90 layout scaled to `res` (x and y each by their own factor, the brush by the
     /// smaller one, so it stays round).
     fn at(res: (u32, u32)) -> Self {
-        let (sx, sy) = (res.0 as f64 / CI_RES.0 as f64, res.1 as f64 / CI_RES.1 as f64);
+        let (sx, sy) = (res.0 as f64 / DEFAULT_RES.0 as f64, res.1 as f64 / DEFAULT_RES.1 as f64);
         let at = |(x, y): (f64, f64)| (x * sx, y * sy);
         let strokes = STROKES.map(|(camera, a, b)| (camera, at(a), at(b)));
         let orbit = (0..=6).map(|i| at((60.0 + 6.0 * i as f64, 45.0))).collect();
-        let pixels = (res.0 * res.1) as f64 / (CI_RES.0 * CI_RES.1) as f64;
+        let pixels = (res.0 * res.1) as f64 / (DEFAULT_RES.0 * DEFAULT_RES.1) as f64;
         Self {
             res,
             brush: BRUSH * sx.min(sy),
@@ -92,10 +93,10 @@ pub fn parse_res(text: &str) -> Result<(u32, u32), String> {
         (Ok(w), Ok(h)) => (w, h),
         _ => return Err(bad("width and height must be whole numbers")),
     };
-    if w < CI_RES.0 || h < CI_RES.1 || w > MAX_RES.0 || h > MAX_RES.1 {
+    if w < DEFAULT_RES.0 || h < DEFAULT_RES.1 || w > MAX_RES.0 || h > MAX_RES.1 {
         return Err(bad(&format!(
             "the test lays out sizes from {}x{} to {}x{}",
-            CI_RES.0, CI_RES.1, MAX_RES.0, MAX_RES.1
+            DEFAULT_RES.0, DEFAULT_RES.1, MAX_RES.0, MAX_RES.1
         )));
     }
     Ok((w, h))
@@ -126,8 +127,8 @@ mod tests {
     }
 
     #[test]
-    fn the_ci_layout_is_the_one_the_test_was_written_at() {
-        let l = Layout::at(CI_RES);
+    fn the_default_layout_is_the_one_the_test_was_written_at() {
+        let l = Layout::at(DEFAULT_RES);
         assert_eq!((l.brush, l.strokes, l.window, l.patience), (BRUSH, STROKES, (1100, 650), PATIENCE));
         assert_eq!(l.orbit.first(), Some(&(60.0, 45.0)));
         let big = Layout::at((480, 270));
