@@ -2,6 +2,8 @@
 //! flags Chromium needs as root on a closed network, real pointer strokes, page scripts, and
 //! waiting for the page's state.
 
+use base64::Engine;
+use base64::engine::general_purpose::STANDARD as BASE64;
 use fantoccini::actions::{InputSource, MOUSE_BUTTON_LEFT, MouseActions, PointerAction};
 use fantoccini::{Client, ClientBuilder, Locator};
 use hyper_util::client::legacy::connect::HttpConnector;
@@ -71,6 +73,21 @@ impl Browser {
             .execute(script, args)
             .await
             .unwrap_or_else(|e| panic!("page script failed: {e}\n{script}"))
+    }
+
+    /// The bytes of the typed array (or null) `script` returns, carried as base64: a picture
+    /// as a JSON array of numbers would hold the page's main thread for hundreds of ms at
+    /// 480×270, a long task of the test's own making in the page's record.
+    pub async fn bytes(&self, script: &str) -> Option<Vec<u8>> {
+        let wrapped = format!(
+            "const a = (() => {{ {script} }})(); if (a == null) return null;
+             const u = new Uint8Array(a.buffer, a.byteOffset, a.byteLength);
+             let s = ''; for (let i = 0; i < u.length; i += 0x8000) s += String.fromCharCode.apply(null, u.subarray(i, i + 0x8000));
+             return btoa(s);"
+        );
+        let text = self.js(&wrapped, vec![]).await;
+        let text = text.as_str()?;
+        Some(BASE64.decode(text).unwrap_or_else(|e| panic!("the page's base64: {e}\n{script}")))
     }
 
     /// Polls `script` until it returns something other than null or false, for up to `limit`.

@@ -98,7 +98,7 @@
     });
     socket.onmessage = timed('socket message', (ev) => {
       if (typeof ev.data === 'string') onMessage(JSON.parse(ev.data));
-      else onImageBytes(ev.data);
+      else onImageBytesTimed(ev.data);
     });
   }
   S.connLog = [];
@@ -115,7 +115,15 @@
     return msg.id;
   }
 
+  // Each kind of message is timed on its own too (`socket state`, `socket labels`, …), so a slow
+  // `socket message` in the record says which kind it was.
+  const byType = new Map();
   function onMessage(m) {
+    const type = ['state', 'labels', 'progress', 'saved', 'error', 'final', 'image'].includes(m.type) ? m.type : 'other';
+    if (!byType.has(type)) byType.set(type, timed(`socket ${type}`, dispatch));
+    byType.get(type)(m);
+  }
+  function dispatch(m) {
     switch (m.type) {
       case 'state': applyState(m); break;
       case 'labels': onLabels(m); break;
@@ -180,6 +188,7 @@
     if (h.kind === 'preview') return h.seq < S.seq;
     return h.seq < (S.imageSeq.get(imageKey(h)) ?? -1);
   }
+  const onImageBytesTimed = timed('socket picture bytes', (buf) => onImageBytes(buf));
   function onImageBytes(buf) {
     const h = pendingImage;
     pendingImage = null;
