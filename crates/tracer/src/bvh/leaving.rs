@@ -171,13 +171,8 @@ mod tests {
     /// predicate gives when asked about every corner, shared ones included.
     #[test]
     fn shared_corners_are_on_the_plane_as_the_predicate_says() {
-        let mut seed = 0x2545_f491u32;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 17;
-            seed ^= seed << 5;
-            (seed % 2001) as f32 / 1000.0 - 1.0
-        };
+        let mut rng = crate::lcg::Lcg(0x2545_f491);
+        let mut next = move || rng.next() * 2.0 - 1.0;
         for round in 0..500 {
             // A fan around a centre: rim points on a tilted plane, some lifted off it.
             let centre = [next(), next(), next()];
