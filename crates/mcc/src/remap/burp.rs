@@ -112,18 +112,18 @@ fn burp_row_body(
     for chunk in columns.chunks(LANES) {
         let pixel: [usize; LANES] = std::array::from_fn(|i| base + chunk[i.min(chunk.len() - 1)] as usize);
         let mut chains = Chains::default();
+        let mut step = Step::default();
         let mut started = false;
         // Burp runs from the highest id down; origins accumulate alongside.
         for (plane, edge) in planes.iter().zip(&nearest.planes).rev() {
-            let mut step = Step::default();
             let mut any = false;
             for (i, &p) in pixel.iter().enumerate() {
                 let a = plane[p];
                 any |= a > 0.0;
                 step.weight[i] = a;
-                // Every background pixel has an edge pixel of every camera; a lane without one
-                // would have no weight here either.
-                let source = sources.get(edge[p] as usize).copied().unwrap_or_default();
+                // Every background pixel has an edge pixel of every camera (the clamp only keeps
+                // a lane without one, which would have no weight either, from indexing out).
+                let source = sources[(edge[p] as usize).min(sources.len() - 1)];
                 for c in 0..3 {
                     step.origin[c][i] = source.origin[c];
                     step.direction[c][i] = source.direction[c];
