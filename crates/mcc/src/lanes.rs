@@ -1,8 +1,9 @@
 //! Branch-free arithmetic for loops that run many pixels at once in SIMD lanes (docs/design.md
-//! §5.7, §7): selects, the half angle (atan) and sin/cos as Cephes' polynomials, and the fixed
-//! perpendicular of slerp's opposite-vector rule. The remapper's burp and the in-betweener's
-//! smooth kernel share them, and the crate's scalar [`crate::slerp::slerp`] is built from them, so
-//! a pixel computed alone and one computed in a lane give the same bits.
+//! §5.7, §7): selects, glam's normalisation without its `Option`, the half angle (atan) and
+//! sin/cos as Cephes' polynomials, and the fixed perpendicular of slerp's opposite-vector rule.
+//! The in-betweener's smooth kernel uses them all; the crate's slerp (and so the remapper's burp
+//! in lanes) the selects and the normalisation, so that its scalar and lane forms are the same
+//! operations and give the same bits.
 //!
 //! Every function is `#[inline(always)]` so that it is compiled inside the loop that calls it,
 //! with that loop's CPU features ([`has_avx2`]); the operations are IEEE's lane by lane — no FMA

@@ -9,7 +9,7 @@
 use super::nearest::NearestEdges;
 use crate::lanes::{has_avx2, select, select3};
 use crate::ray_file::StoredRay;
-use crate::slerp::{slerp, slerp_lane};
+use crate::slerp::{NLERP_CHORD_SQUARED, along, arc, nlerp, slerp};
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -40,46 +40,81 @@ const LANES: usize = 8;
 #[derive(Default)]
 struct Step {
     weight: [f32; LANES],
-    origin: [[f32; LANES]; 3],
-    direction: [[f32; LANES]; 3],
+    origin: Lanes3,
+    direction: Lanes3,
 }
 
 /// A chunk's burp chains, one per lane: Σ α·origin, β = Σ α, and the direction so far (valid
 /// once β > 0, i.e. once a camera has taken part).
 #[derive(Default)]
 struct Chains {
-    origin: [[f32; LANES]; 3],
-    direction: [[f32; LANES]; 3],
+    origin: Lanes3,
+    direction: Lanes3,
     beta: [f32; LANES],
+}
+
+/// Three lanes' worth of vectors, structure of arrays.
+type Lanes3 = [[f32; LANES]; 3];
+
+/// Lane `i` of `v`.
+#[inline(always)]
+fn lane(v: &Lanes3, i: usize) -> Vec3 {
+    Vec3::new(v[0][i], v[1][i], v[2][i])
+}
+
+/// Writes lane `i` of `v`.
+#[inline(always)]
+fn set_lane(v: &mut Lanes3, i: usize, x: Vec3) {
+    for (c, x) in v.iter_mut().zip(x.to_array()) {
+        c[i] = x;
+    }
 }
 
 impl Chains {
     /// The next camera down, in every lane: the scalar chain's operations, a lane at a time,
     /// each decision a select (the weight ≤ 0 or NaN: no part; the first camera: its direction;
-    /// later ones: [`slerp_lane`]). `STARTED`: some lane has begun (else no slerp is needed).
+    /// later ones: the slerp's paths, all computed). The sine and cosine are libm's, one lane at
+    /// a time between two vector loops, as the scalar slerp calls them: same bits.
+    /// `STARTED`: some lane has begun (else no slerp is needed).
     #[inline(always)]
     fn step<const STARTED: bool>(&mut self, s: &Step) {
+        let (mut u, mut near, mut chord) = (Lanes3::default(), Lanes3::default(), [0f32; LANES]);
+        let (mut angle, mut sin, mut cos) = ([0f32; LANES], [0f32; LANES], [0f32; LANES]);
+        // The chain's fraction α_k / β_k, β_k the sum including this camera.
+        let ts: [f32; LANES] = std::array::from_fn(|i| (s.weight[i] / (self.beta[i] + s.weight[i])).min(1.0));
+        if STARTED {
+            for i in 0..LANES {
+                let (a, b) = (lane(&self.direction, i), lane(&s.direction, i));
+                let d = b - a;
+                let d2 = d.length_squared();
+                let (arc_u, arc_angle) = arc(a, b, d, d2, ts[i]);
+                set_lane(&mut u, i, arc_u);
+                set_lane(&mut near, i, nlerp(a, d, ts[i]));
+                chord[i] = d2;
+                angle[i] = arc_angle;
+            }
+            for i in 0..LANES {
+                (sin[i], cos[i]) = angle[i].sin_cos();
+            }
+        }
         for i in 0..LANES {
             let a = s.weight[i];
             let active = a > 0.0;
-            let lane = |v: &[[f32; LANES]; 3]| Vec3::new(v[0][i], v[1][i], v[2][i]);
-            let (origin, direction) = (lane(&self.origin), lane(&self.direction));
-            let (source_origin, source_direction) = (lane(&s.origin), lane(&s.direction));
+            let (origin, direction) = (lane(&self.origin, i), lane(&self.direction, i));
+            let (source_origin, source_direction) = (lane(&s.origin, i), lane(&s.direction, i));
             let beta = self.beta[i];
-            let next_beta = beta + a;
             let next = if STARTED {
-                let slerped = slerp_lane(direction, source_direction, (a / next_beta).min(1.0));
+                let (t, r) = (ts[i], direction);
+                let wide = along(r, lane(&u, i), sin[i], cos[i]);
+                let slerped = select3(chord[i] < NLERP_CHORD_SQUARED, lane(&near, i), wide);
+                let slerped = select3(t == 0.0, r, select3(t == 1.0, source_direction, slerped));
                 select3(beta > 0.0, slerped, source_direction)
             } else {
                 source_direction
             };
-            let origin = select3(active, origin + a * source_origin, origin);
-            let direction = select3(active, next, direction);
-            self.beta[i] = select(active, next_beta, beta);
-            for (c, (o, d)) in origin.to_array().into_iter().zip(direction.to_array()).enumerate() {
-                self.origin[c][i] = o;
-                self.direction[c][i] = d;
-            }
+            set_lane(&mut self.origin, i, select3(active, origin + a * source_origin, origin));
+            set_lane(&mut self.direction, i, select3(active, next, direction));
+            self.beta[i] = select(active, beta + a, beta);
         }
     }
 }
@@ -124,10 +159,8 @@ fn burp_row_body(
                 // Every background pixel has an edge pixel of every camera (the clamp only keeps
                 // a lane without one, which would have no weight either, from indexing out).
                 let source = sources[(edge[p] as usize).min(sources.len() - 1)];
-                for c in 0..3 {
-                    step.origin[c][i] = source.origin[c];
-                    step.direction[c][i] = source.direction[c];
-                }
+                set_lane(&mut step.origin, i, source.origin);
+                set_lane(&mut step.direction, i, source.direction);
             }
             if !any {
                 continue;
@@ -140,10 +173,9 @@ fn burp_row_body(
             started = true;
         }
         for (i, &x) in chunk.iter().enumerate() {
-            let lane = |v: &[[f32; LANES]; 3]| Vec3::new(v[0][i], v[1][i], v[2][i]);
             let beta = chains.beta[i];
             row[x as usize] = if beta > 0.0 {
-                StoredRay::new(lane(&chains.origin) / beta, lane(&chains.direction))
+                StoredRay::new(lane(&chains.origin, i) / beta, lane(&chains.direction, i))
             } else {
                 // Unreachable after renormalisation; still a valid ray rather than a panic.
                 sources[nearest.planes[0][pixel[i]] as usize]
