@@ -122,18 +122,20 @@ impl Chains {
 /// Reusable per-task buffer: the background columns of a row.
 type Columns = Vec<u32>;
 
+/// What every row of [`remapped_rays`] reads.
+#[derive(Clone, Copy)]
+struct Inputs<'a> {
+    cam: &'a [u32],
+    sources: &'a [StoredRay],
+    nearest: &'a NearestEdges,
+    planes: &'a [Vec<f32>],
+}
+
 /// One row of [`remapped_rays`]: camera pixels copied, background pixels in chunks of
 /// [`LANES`] (the last chunk padded with its last pixel, computed and not written).
 #[inline(always)]
-fn burp_row_body(
-    y: usize,
-    row: &mut [StoredRay],
-    columns: &mut Columns,
-    cam: &[u32],
-    sources: &[StoredRay],
-    nearest: &NearestEdges,
-    planes: &[Vec<f32>],
-) {
+fn burp_row_body(y: usize, row: &mut [StoredRay], columns: &mut Columns, inputs: Inputs) {
+    let Inputs { cam, sources, nearest, planes } = inputs;
     let width = row.len();
     let base = y * width;
     columns.clear();
@@ -186,16 +188,8 @@ fn burp_row_body(
 
 /// [`burp_row_body`] compiled for baseline x86-64 (SSE2: each step of eight lanes is two
 /// vectors).
-fn burp_row_baseline(
-    y: usize,
-    row: &mut [StoredRay],
-    columns: &mut Columns,
-    cam: &[u32],
-    sources: &[StoredRay],
-    nearest: &NearestEdges,
-    planes: &[Vec<f32>],
-) {
-    burp_row_body(y, row, columns, cam, sources, nearest, planes);
+fn burp_row_baseline(y: usize, row: &mut [StoredRay], columns: &mut Columns, inputs: Inputs) {
+    burp_row_body(y, row, columns, inputs);
 }
 
 /// [`burp_row_body`] compiled with AVX2 (each step one vector). The same IEEE operations as the
@@ -205,16 +199,8 @@ fn burp_row_baseline(
 /// The CPU must have AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn burp_row_avx2(
-    y: usize,
-    row: &mut [StoredRay],
-    columns: &mut Columns,
-    cam: &[u32],
-    sources: &[StoredRay],
-    nearest: &NearestEdges,
-    planes: &[Vec<f32>],
-) {
-    burp_row_body(y, row, columns, cam, sources, nearest, planes);
+unsafe fn burp_row_avx2(y: usize, row: &mut [StoredRay], columns: &mut Columns, inputs: Inputs) {
+    burp_row_body(y, row, columns, inputs);
 }
 
 /// The remapped rays of every pixel, and (when `dominant` is asked for) the camera index with
@@ -232,15 +218,16 @@ pub(crate) fn remapped_rays(
 ) -> (Vec<StoredRay>, Option<Vec<u32>>) {
     let mut rays = vec![StoredRay::default(); cam.len()];
     let avx2 = has_avx2();
+    let inputs = Inputs { cam, sources, nearest, planes };
     rays.par_chunks_mut(width).enumerate().for_each_init(Columns::new, |columns, (y, row)| {
         #[cfg(target_arch = "x86_64")]
         if avx2 {
             // SAFETY: the CPU has AVX2 (`has_avx2`).
-            unsafe { burp_row_avx2(y, row, columns, cam, sources, nearest, planes) };
+            unsafe { burp_row_avx2(y, row, columns, inputs) };
             return;
         }
         let _ = avx2;
-        burp_row_baseline(y, row, columns, cam, sources, nearest, planes);
+        burp_row_baseline(y, row, columns, inputs);
     });
     (rays, dominant.then(|| self::dominant(cam, planes)))
 }
@@ -366,7 +353,8 @@ mod tests {
         let mut baseline = vec![StoredRay::default(); n];
         let mut columns = Columns::new();
         for (y, row) in baseline.chunks_mut(w).enumerate() {
-            burp_row_baseline(y, row, &mut columns, &cam, &sources, &nearest, &planes);
+            let inputs = Inputs { cam: &cam, sources: &sources, nearest: &nearest, planes: &planes };
+            burp_row_baseline(y, row, &mut columns, inputs);
         }
         let mut chains = 0;
         for p in 0..n {
