@@ -9,6 +9,7 @@ pub mod compose;
 pub mod error;
 pub mod inbetween;
 pub mod job;
+mod lanes;
 pub mod layers;
 pub mod lens_reader;
 pub mod lens_writer;

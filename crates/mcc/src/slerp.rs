@@ -15,12 +15,17 @@
 //!   pixels are almost always this close).
 //! * t = 0 and t = 1 return the inputs bit for bit (pixel centres must be exact); the result
 //!   is never NaN for finite, non-zero inputs.
+//! * Every path is written without branches ([`nlerp`], [`arc`] and [`along`] around the sin
+//!   and cos of the angle): the scalar [`slerp`] only branches to skip the paths it does not
+//!   take, and the remapper's burp, which runs eight pixels in SIMD lanes, computes every path
+//!   and selects, with the same operations, so the two give the same bits.
 
+use crate::lanes::{normalize_or, select, select3};
 use crate::ray_file::StoredRay;
 use glam::Vec3;
 
 /// Squared chord |a − b|² below which normalised lerp replaces slerp (θ < 0.01 rad).
-const NLERP_CHORD_SQUARED: f32 = 1e-4;
+pub(crate) const NLERP_CHORD_SQUARED: f32 = 1e-4;
 
 /// The angle between unit vectors `a` and `b`, accurate over the whole range [0, π].
 #[inline]
@@ -41,52 +46,71 @@ pub fn slerp(a: Vec3, b: Vec3, t: f32) -> Vec3 {
     let d = b - a;
     let d2 = d.length_squared();
     if d2 < NLERP_CHORD_SQUARED {
-        return (a + d * t).try_normalize().unwrap_or(a);
+        return nlerp(a, d, t);
     }
     slerp_wide(a, b, d, d2, t)
+}
+
+/// The normalised lerp a + t·(b − a) (`d` = b − a), or `a` should it vanish.
+#[inline(always)]
+pub(crate) fn nlerp(a: Vec3, d: Vec3, t: f32) -> Vec3 {
+    normalize_or(a + d * t, a)
 }
 
 /// The trigonometric path of [`slerp`], for θ ≥ 0.01.
 #[inline(never)]
 fn slerp_wide(a: Vec3, b: Vec3, d: Vec3, d2: f32, t: f32) -> Vec3 {
+    let (u, angle) = arc(a, b, d, d2, t);
+    let (sin, cos) = angle.sin_cos();
+    along(a, u, sin, cos)
+}
+
+/// The first half of the trigonometric path, branch-free (`d` = b − a, `d2` = |d|²): the unit
+/// vector u ⟂ a towards b on the great circle, and the angle t·θ to turn by.
+#[inline(always)]
+pub(crate) fn arc(a: Vec3, b: Vec3, d: Vec3, d2: f32, t: f32) -> (Vec3, f32) {
     let s = a + b;
     let s2 = s.length_squared();
     let theta = 2.0 * half_angle(d2.sqrt(), s2.sqrt());
     // b − a(a·b) from the shorter of d = b − a and s = a + b: d − a(a·d) = s − a(a·s).
-    let (v, v2) = if d2 <= s2 { (d, d2) } else { (s, s2) };
-    let mut p = v - a * a.dot(v);
-    if p.length_squared() < 0.25 * v2 {
-        // For exactly unit inputs |p|/|v| = sin(θ/2) or cos(θ/2) ≥ 0.7 on the branch taken;
-        // less means v lies along a, i.e. the inputs are opposite to within their rounding
-        // and a + b is mostly their length errors. p is then a small difference, and a's own
-        // length error (|a|² = 1 ± 2.4e-7) left a share of a in it ~1e-7·|v|/|p| — measured
-        // 1.2e-5 rad off perpendicular (tests/stress_mcc.rs). A second projection removes it.
-        p -= a * a.dot(p);
-    }
-    let u = match p.try_normalize() {
-        Some(u) => u,
-        None => {
-            // Exactly opposite: any perpendicular is a great circle through both; pick a fixed one.
-            let q = a.any_orthonormal_vector();
-            (q - a * a.dot(q)).try_normalize().unwrap_or(q)
-        }
-    };
-    let (sin, cos) = (t * theta).sin_cos();
-    (a * cos + u * sin).try_normalize().unwrap_or(a)
+    let shorter = d2 <= s2;
+    let (v, v2) = (select3(shorter, d, s), select(shorter, d2, s2));
+    let p = v - a * a.dot(v);
+    // For exactly unit inputs |p|/|v| = sin(θ/2) or cos(θ/2) ≥ 0.7 on the side taken; less
+    // means v lies along a, i.e. the inputs are opposite to within their rounding and a + b is
+    // mostly their length errors. p is then a small difference, and a's own length error
+    // (|a|² = 1 ± 2.4e-7) left a share of a in it ~1e-7·|v|/|p| — measured 1.2e-5 rad off
+    // perpendicular (tests/stress_mcc.rs). A second projection removes it.
+    let p = select3(p.length_squared() < 0.25 * v2, p - a * a.dot(p), p);
+    // Exactly opposite: any perpendicular is a great circle through both; pick a fixed one.
+    let q = a.any_orthonormal_vector();
+    let u = normalize_or(p, normalize_or(q - a * a.dot(q), q));
+    (u, t * theta)
+}
+
+/// The second half: a turned towards u by the angle whose sine and cosine are given, normalised
+/// (or `a` should that fail).
+#[inline(always)]
+pub(crate) fn along(a: Vec3, u: Vec3, sin: f32, cos: f32) -> Vec3 {
+    normalize_or(a * cos + u * sin, a)
 }
 
 /// atan2(y, x) for y, x ≥ 0 (not both 0), i.e. half the angle between unit vectors whose
 /// difference and sum have lengths y and x. Cephes' `atanf` reduction and polynomial (relative
 /// error under 2e-7) without libm's special-case handling: the burp of a many-camera collage
 /// spends much of its time here (docs/performance.md, ledger: "polynomial atan in slerp").
-#[inline]
+/// Branch-free: both sides of each choice are the same operations a branch would run.
+#[inline(always)]
 fn half_angle(y: f32, x: f32) -> f32 {
     use std::f32::consts::{FRAC_PI_2, FRAC_PI_4};
     // atan of a ratio in [0, 1]; the larger side is the denominator.
-    let (ratio, base, sign) = if y <= x { (y / x, 0.0, 1.0) } else { (x / y, FRAC_PI_2, -1.0) };
+    let le = y <= x;
+    let ratio = select(le, y, x) / select(le, x, y);
+    let (base, sign) = (select(le, 0.0, FRAC_PI_2), select(le, 1.0, -1.0));
     // atan(z) = π/4 + atan((z − 1)/(z + 1)) brings z above tan(π/8) back under it.
-    let (z, offset) =
-        if ratio > 0.414_213_57 { ((ratio - 1.0) / (ratio + 1.0), FRAC_PI_4) } else { (ratio, 0.0) };
+    let big = ratio > 0.414_213_57;
+    let z = select(big, (ratio - 1.0) / (ratio + 1.0), ratio);
+    let offset = select(big, FRAC_PI_4, 0.0);
     let z2 = z * z;
     let poly = ((0.080_537_446 * z2 - 0.138_776_85) * z2 + 0.199_777_11) * z2 - 0.333_329_5;
     let atan = offset + (poly * z2 * z + z);

@@ -4,6 +4,7 @@
 //! Everything here is a pure function of its arguments: a pixel's result depends on nothing else,
 //! so frames are bit-identical whatever the thread count.
 
+use crate::lanes::{half_angle, perpendicular, select, select3, sin_cos};
 use crate::ray_file::StoredRay;
 use glam::{DVec3, Vec3};
 
@@ -52,32 +53,6 @@ pub(super) fn log_map(a: DVec3, b: DVec3) -> DVec3 {
     let p = if d2 <= s2 { d - a * a.dot(d) } else { s - a * a.dot(s) };
     let u = p.try_normalize().unwrap_or_else(|| perpendicular(a.as_vec3()).as_dvec3());
     u * theta
-}
-
-/// The deterministic unit vector ⟂ `a` used when `a` and `b` span no plane (equal or exactly
-/// opposite): the one [`crate::slerp::slerp`] uses, `a.any_orthonormal_vector()` (Duff et al.
-/// 2017, written with `copysign`, which equals glam's `signum` for every non-NaN input),
-/// re-orthogonalised for an `a` that is unit only to f32 precision. Branch-free.
-#[inline(always)]
-pub(super) fn perpendicular(a: Vec3) -> Vec3 {
-    let sign = 1.0f32.copysign(a.z);
-    let k = -1.0 / (sign + a.z);
-    let q = Vec3::new(a.x * a.y * k, sign + a.y * a.y * k, -a.y);
-    let q = q - a * a.dot(q);
-    q * (1.0 / q.dot(q).sqrt())
-}
-
-/// `if c { x } else { y }` on values already computed: LLVM makes it a SIMD blend. (A select
-/// between two *loads* would become a load through a selected pointer, which does not
-/// vectorise; every select below picks between computed values.)
-#[inline(always)]
-fn select(c: bool, x: f32, y: f32) -> f32 {
-    if c { x } else { y }
-}
-
-#[inline(always)]
-fn select3(c: bool, x: Vec3, y: Vec3) -> Vec3 {
-    Vec3::new(select(c, x.x, y.x), select(c, x.y, y.y), select(c, x.z, y.z))
 }
 
 /// The great circle from unit `a` to unit `b`, as an orthonormal frame: `u` ⟂ `a` in the plane of
@@ -157,7 +132,7 @@ pub(super) fn smooth_row(
     out: &mut [StoredRay],
 ) {
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
+    if crate::lanes::has_avx2() {
         // SAFETY: the CPU has AVX2 (checked just above).
         unsafe { smooth_row_avx2(a, b, ma, mb, h, out) };
         return;
@@ -203,77 +178,9 @@ pub(super) fn smooth_row_avx2(
     smooth_row_body(a, b, ma, mb, h, out);
 }
 
-/// atan2(y, x) for y, x ≥ 0, not both 0: the half angle between unit vectors whose difference
-/// and sum have lengths y and x. Cephes' `atanf` reduction and polynomial (error under 2e-7),
-/// branch-free: atan(lo/hi), reduced by atan(z) = π/4 + atan((z − 1)/(z + 1)) above tan(π/8),
-/// and π/2 − atan when y > x.
-#[inline(always)]
-pub(super) fn half_angle(y: f32, x: f32) -> f32 {
-    use std::f32::consts::{FRAC_PI_2, FRAC_PI_4};
-    let swap = y > x;
-    let (lo, hi) = (select(swap, x, y), select(swap, y, x));
-    let big = lo > 0.414_213_57 * hi;
-    let z = select(big, lo - hi, lo) / select(big, lo + hi, hi);
-    let z2 = z * z;
-    let poly = ((0.080_537_446 * z2 - 0.138_776_85) * z2 + 0.199_777_11) * z2 - 0.333_329_5;
-    let atan = select(big, FRAC_PI_4, 0.0) + (poly * z2 * z + z);
-    select(swap, FRAC_PI_2 - atan, atan)
-}
-
-/// sin and cos of `x` (|x| ≲ 10⁴), Cephes' `sinf`/`cosf`: x is reduced by the nearest multiple of
-/// π/2 (a three-part Cody–Waite π/2), then minimax polynomials on [−π/4, π/4]; absolute error
-/// under 2.5e-7 on the in-betweener's range (|x| < 2π). Branch-free, no libm call (std's
-/// `sin_cos` is two libm calls and does not vectorise).
-#[inline(always)]
-pub(super) fn sin_cos(x: f32) -> (f32, f32) {
-    const FRAC_2_PI: f32 = std::f32::consts::FRAC_2_PI;
-    const DP1: f32 = 1.570_312_5;
-    const DP2: f32 = 4.837_513e-4;
-    const DP3: f32 = 7.549_79e-8;
-    // Nearest quadrant by truncating x·2/π ± ½, clamped first so that the conversion is in
-    // range (`max`/`min` return the non-NaN operand: a NaN clamps too, and stays NaN in `y`;
-    // `clamp` would pass the NaN on to the conversion).
-    #[allow(clippy::manual_clamp)]
-    let v = (x * FRAC_2_PI + 0.5f32.copysign(x)).max(-1e6).min(1e6);
-    // SAFETY: v is finite and within ±1e6.
-    let q = unsafe { v.to_int_unchecked::<i32>() };
-    let j = q as f32;
-    let y = ((x - j * DP1) - j * DP2) - j * DP3;
-    let z = y * y;
-    let s = ((-1.951_529_6e-4 * z + 8.332_161e-3) * z - 1.666_665_5e-1) * z * y + y;
-    let c = ((2.443_315_7e-5 * z - 1.388_731_6e-3) * z + 4.166_664_6e-2) * z * z - 0.5 * z + 1.0;
-    // Quadrant q: (s, c), (c, −s), (−s, −c), (−c, s): swap on odd q, then negate both if q & 2.
-    let odd = q & 1 != 0;
-    let flip = ((q & 2) as u32) << 30;
-    (f32::from_bits(select(odd, c, s).to_bits() ^ flip), f32::from_bits(select(odd, -s, c).to_bits() ^ flip))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn fast_trigonometry_is_accurate() {
-        let mut worst = (0.0f64, 0.0f64);
-        let mut x = -12.0f64;
-        while x <= 12.0 {
-            let (s, c) = sin_cos(x as f32);
-            let xf = x as f32 as f64;
-            worst.0 = worst.0.max((s as f64 - xf.sin()).abs());
-            worst.0 = worst.0.max((c as f64 - xf.cos()).abs());
-            x += 1e-4;
-        }
-        assert!(worst.0 < 2.5e-7, "sin_cos error {}", worst.0);
-        for k in 0..=20000 {
-            let theta = std::f64::consts::PI * k as f64 / 20000.0;
-            let (y, x) = ((theta / 2.0).sin() as f32, (theta / 2.0).cos() as f32);
-            let want = (y as f64).atan2(x as f64);
-            worst.1 = worst.1.max((half_angle(y, x) as f64 - want).abs());
-        }
-        assert!(worst.1 < 2e-7, "half_angle error {}", worst.1);
-        assert_eq!(sin_cos(0.0), (0.0, 1.0));
-        assert!(sin_cos(f32::NAN).0.is_nan());
-    }
 
     #[test]
     fn arc_frame_is_orthonormal_and_reaches_the_end() {

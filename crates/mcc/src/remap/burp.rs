@@ -7,8 +7,9 @@
 //! and no step yields NaN; α_k / β_k ≤ 1 because β_k ≥ α_k.
 
 use super::nearest::NearestEdges;
+use crate::lanes::{has_avx2, select, select3};
 use crate::ray_file::StoredRay;
-use crate::slerp::slerp;
+use crate::slerp::{NLERP_CHORD_SQUARED, along, arc, nlerp, slerp};
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -30,9 +31,183 @@ pub fn burp(directions: &[Vec3], weights: &[f32]) -> Option<Vec3> {
     r
 }
 
+/// Background pixels per step of the lane loop: AVX2's eight f32 lanes (two SSE2 registers on
+/// the baseline).
+const LANES: usize = 8;
+
+/// One camera's part in a chunk of pixels: its weight and the source ray of its nearest edge
+/// pixel, per lane, structure of arrays (so the lane loop reads whole vectors).
+#[derive(Default)]
+struct Step {
+    weight: [f32; LANES],
+    origin: Lanes3,
+    direction: Lanes3,
+}
+
+/// A chunk's burp chains, one per lane: Σ α·origin, β = Σ α, and the direction so far (valid
+/// once β > 0, i.e. once a camera has taken part).
+#[derive(Default)]
+struct Chains {
+    origin: Lanes3,
+    direction: Lanes3,
+    beta: [f32; LANES],
+}
+
+/// Three lanes' worth of vectors, structure of arrays.
+type Lanes3 = [[f32; LANES]; 3];
+
+/// Lane `i` of `v`.
+#[inline(always)]
+fn lane(v: &Lanes3, i: usize) -> Vec3 {
+    Vec3::new(v[0][i], v[1][i], v[2][i])
+}
+
+/// Writes lane `i` of `v`.
+#[inline(always)]
+fn set_lane(v: &mut Lanes3, i: usize, x: Vec3) {
+    for (c, x) in v.iter_mut().zip(x.to_array()) {
+        c[i] = x;
+    }
+}
+
+impl Chains {
+    /// The next camera down, in every lane: the scalar chain's operations, a lane at a time,
+    /// each decision a select (the weight ≤ 0 or NaN: no part; the first camera: its direction;
+    /// later ones: the slerp's paths, all computed). The sine and cosine are libm's, one lane at
+    /// a time between two vector loops, as the scalar slerp calls them: same bits.
+    /// `STARTED`: some lane has begun (else no slerp is needed).
+    #[inline(always)]
+    fn step<const STARTED: bool>(&mut self, s: &Step) {
+        let (mut u, mut near, mut chord) = (Lanes3::default(), Lanes3::default(), [0f32; LANES]);
+        let (mut angle, mut sin, mut cos) = ([0f32; LANES], [0f32; LANES], [0f32; LANES]);
+        // The chain's fraction α_k / β_k, β_k the sum including this camera.
+        let ts: [f32; LANES] = std::array::from_fn(|i| (s.weight[i] / (self.beta[i] + s.weight[i])).min(1.0));
+        if STARTED {
+            for i in 0..LANES {
+                let (a, b) = (lane(&self.direction, i), lane(&s.direction, i));
+                let d = b - a;
+                let d2 = d.length_squared();
+                let (arc_u, arc_angle) = arc(a, b, d, d2, ts[i]);
+                set_lane(&mut u, i, arc_u);
+                set_lane(&mut near, i, nlerp(a, d, ts[i]));
+                chord[i] = d2;
+                angle[i] = arc_angle;
+            }
+            for i in 0..LANES {
+                (sin[i], cos[i]) = angle[i].sin_cos();
+            }
+        }
+        for i in 0..LANES {
+            let a = s.weight[i];
+            let active = a > 0.0;
+            let (origin, direction) = (lane(&self.origin, i), lane(&self.direction, i));
+            let (source_origin, source_direction) = (lane(&s.origin, i), lane(&s.direction, i));
+            let beta = self.beta[i];
+            let next = if STARTED {
+                let (t, r) = (ts[i], direction);
+                let wide = along(r, lane(&u, i), sin[i], cos[i]);
+                let slerped = select3(chord[i] < NLERP_CHORD_SQUARED, lane(&near, i), wide);
+                let slerped = select3(t == 0.0, r, select3(t == 1.0, source_direction, slerped));
+                select3(beta > 0.0, slerped, source_direction)
+            } else {
+                source_direction
+            };
+            set_lane(&mut self.origin, i, select3(active, origin + a * source_origin, origin));
+            set_lane(&mut self.direction, i, select3(active, next, direction));
+            self.beta[i] = select(active, beta + a, beta);
+        }
+    }
+}
+
+/// Reusable per-task buffer: the background columns of a row.
+type Columns = Vec<u32>;
+
+/// What every row of [`remapped_rays`] reads.
+#[derive(Clone, Copy)]
+struct Inputs<'a> {
+    cam: &'a [u32],
+    sources: &'a [StoredRay],
+    nearest: &'a NearestEdges,
+    planes: &'a [Vec<f32>],
+}
+
+/// One row of [`remapped_rays`]: camera pixels copied, background pixels in chunks of
+/// [`LANES`] (the last chunk padded with its last pixel, computed and not written).
+#[inline(always)]
+fn burp_row_body(y: usize, row: &mut [StoredRay], columns: &mut Columns, inputs: Inputs) {
+    let Inputs { cam, sources, nearest, planes } = inputs;
+    let width = row.len();
+    let base = y * width;
+    columns.clear();
+    for (x, out) in row.iter_mut().enumerate() {
+        if cam[base + x] != 0 {
+            *out = sources[base + x];
+        } else {
+            columns.push(x as u32);
+        }
+    }
+    for chunk in columns.chunks(LANES) {
+        let pixel: [usize; LANES] = std::array::from_fn(|i| base + chunk[i.min(chunk.len() - 1)] as usize);
+        let mut chains = Chains::default();
+        let mut step = Step::default();
+        let mut started = false;
+        // Burp runs from the highest id down; origins accumulate alongside.
+        for (plane, edge) in planes.iter().zip(&nearest.planes).rev() {
+            let mut any = false;
+            for (i, &p) in pixel.iter().enumerate() {
+                let a = plane[p];
+                any |= a > 0.0;
+                step.weight[i] = a;
+                // Every background pixel has an edge pixel of every camera (the clamp only keeps
+                // a lane without one, which would have no weight either, from indexing out).
+                let source = sources[(edge[p] as usize).min(sources.len() - 1)];
+                set_lane(&mut step.origin, i, source.origin);
+                set_lane(&mut step.direction, i, source.direction);
+            }
+            if !any {
+                continue;
+            }
+            if started {
+                chains.step::<true>(&step);
+            } else {
+                chains.step::<false>(&step);
+            }
+            started = true;
+        }
+        for (i, &x) in chunk.iter().enumerate() {
+            let beta = chains.beta[i];
+            row[x as usize] = if beta > 0.0 {
+                StoredRay::new(lane(&chains.origin, i) / beta, lane(&chains.direction, i))
+            } else {
+                // Unreachable after renormalisation; still a valid ray rather than a panic.
+                sources[nearest.planes[0][pixel[i]] as usize]
+            };
+        }
+    }
+}
+
+/// [`burp_row_body`] compiled for baseline x86-64 (SSE2: each step of eight lanes is two
+/// vectors).
+fn burp_row_baseline(y: usize, row: &mut [StoredRay], columns: &mut Columns, inputs: Inputs) {
+    burp_row_body(y, row, columns, inputs);
+}
+
+/// [`burp_row_body`] compiled with AVX2 (each step one vector). The same IEEE operations as the
+/// baseline's (no FMA), so the same bits.
+///
+/// # Safety
+/// The CPU must have AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn burp_row_avx2(y: usize, row: &mut [StoredRay], columns: &mut Columns, inputs: Inputs) {
+    burp_row_body(y, row, columns, inputs);
+}
+
 /// The remapped rays of every pixel, and (when `dominant` is asked for) the camera index with
 /// the largest weight per pixel (ties to the smallest id). Rows run in parallel; each pixel's
-/// result depends only on its own inputs.
+/// result depends only on its own inputs, and its lane computes the scalar chain's bits
+/// (the same as [`burp`] of its directions and weights), so neither the thread count, the
+/// pixel's place in its chunk nor the CPU's vector width changes a bit.
 pub(crate) fn remapped_rays(
     cam: &[u32],
     sources: &[StoredRay],
@@ -42,36 +217,17 @@ pub(crate) fn remapped_rays(
     dominant: bool,
 ) -> (Vec<StoredRay>, Option<Vec<u32>>) {
     let mut rays = vec![StoredRay::default(); cam.len()];
-    rays.par_chunks_mut(width).enumerate().for_each(|(y, row)| {
-        for (x, out) in row.iter_mut().enumerate() {
-            let p = y * width + x;
-            if cam[p] != 0 {
-                *out = sources[p];
-                continue;
-            }
-            let mut origin = Vec3::ZERO;
-            let mut direction: Option<Vec3> = None;
-            let mut beta = 0.0f32;
-            // Burp runs from the highest id down; origins accumulate alongside.
-            for k in (0..planes.len()).rev() {
-                let a = planes[k][p];
-                if a.is_nan() || a <= 0.0 {
-                    continue;
-                }
-                let source = &sources[nearest.planes[k][p] as usize];
-                origin += a * source.origin;
-                beta += a;
-                direction = Some(match direction {
-                    None => source.direction,
-                    Some(r) => slerp(r, source.direction, (a / beta).min(1.0)),
-                });
-            }
-            *out = match direction {
-                Some(d) => StoredRay::new(origin / beta, d),
-                // Unreachable after renormalisation; still a valid ray rather than a panic.
-                None => sources[nearest.planes[0][p] as usize],
-            };
+    let avx2 = has_avx2();
+    let inputs = Inputs { cam, sources, nearest, planes };
+    rays.par_chunks_mut(width).enumerate().for_each_init(Columns::new, |columns, (y, row)| {
+        #[cfg(target_arch = "x86_64")]
+        if avx2 {
+            // SAFETY: the CPU has AVX2 (`has_avx2`).
+            unsafe { burp_row_avx2(y, row, columns, inputs) };
+            return;
         }
+        let _ = avx2;
+        burp_row_baseline(y, row, columns, inputs);
     });
     (rays, dominant.then(|| self::dominant(cam, planes)))
 }
@@ -145,6 +301,90 @@ mod tests {
         // Exactly opposite pair with equal weights: a quarter turn on the documented circle.
         let d = burp(&[Vec3::Z, -Vec3::Z], &[0.5, 0.5]).unwrap();
         assert!((angle_between(d, Vec3::Z) - std::f32::consts::FRAC_PI_2).abs() < 1e-6);
+    }
+
+    /// The lanes against the scalar chain (origins summed, directions by [`burp`]), bit for bit:
+    /// random weights with zeros, NaNs, negatives and dominant ones, sources equal, nearly and
+    /// exactly opposite, rows whose background is not a multiple of the lane count.
+    #[test]
+    fn lanes_give_the_scalar_chains_bits() {
+        use crate::remap::nearest::NONE;
+        let mut rng = Rng::new(12);
+        let (w, h, cameras) = (37usize, 9usize, 4usize);
+        let n = w * h;
+        let cam: Vec<u32> =
+            (0..n).map(|_| if rng.unit() < 0.3 { 1 + rng.below(cameras as u32) } else { 0 }).collect();
+        let mut sources: Vec<StoredRay> =
+            (0..n).map(|_| StoredRay::new(rng.direction() * 3.0, rng.direction())).collect();
+        // A few sources equal, nearly opposite and exactly opposite to the first.
+        let first = sources[0].direction;
+        sources[1].direction = first;
+        sources[2].direction = -first;
+        sources[3].direction = (-first + Vec3::new(1e-6, 0.0, 0.0)).normalize();
+        sources[4].direction = (first + Vec3::new(1e-3, 0.0, 0.0)).normalize();
+        let edges: Vec<Vec<u32>> = (0..cameras)
+            .map(|_| {
+                (0..n)
+                    .map(|p| match (cam[p], rng.below(3)) {
+                        (0, 0) => rng.below(5),
+                        (0, _) => rng.below(n as u32),
+                        _ => NONE,
+                    })
+                    .collect()
+            })
+            .collect();
+        let planes: Vec<Vec<f32>> = (0..cameras)
+            .map(|_| {
+                (0..n)
+                    .map(|_| match rng.below(8) {
+                        0 => 0.0,
+                        1 => f32::NAN,
+                        2 => -0.25,
+                        3 => 1.0,
+                        4 => 1e-30,
+                        _ => rng.unit(),
+                    })
+                    .collect()
+            })
+            .collect();
+        let nearest = NearestEdges { planes: edges, participates: Vec::new() };
+        let bits = |r: &StoredRay| bytemuck::cast::<_, [u32; 6]>(*r);
+        let (rays, _) = remapped_rays(&cam, &sources, &nearest, &planes, w, false);
+        let mut baseline = vec![StoredRay::default(); n];
+        let mut columns = Columns::new();
+        for (y, row) in baseline.chunks_mut(w).enumerate() {
+            let inputs = Inputs { cam: &cam, sources: &sources, nearest: &nearest, planes: &planes };
+            burp_row_baseline(y, row, &mut columns, inputs);
+        }
+        let mut chains = 0;
+        for p in 0..n {
+            let want = if cam[p] != 0 {
+                sources[p]
+            } else {
+                let (mut origin, mut beta) = (Vec3::ZERO, 0.0f32);
+                let (mut directions, mut weights) = (Vec::new(), Vec::new());
+                for k in (0..cameras).rev() {
+                    let a = planes[k][p];
+                    let source = sources[nearest.planes[k][p] as usize];
+                    if a > 0.0 {
+                        origin += a * source.origin;
+                        beta += a;
+                    }
+                    directions.insert(0, source.direction);
+                    weights.insert(0, a);
+                }
+                match burp(&directions, &weights) {
+                    Some(d) => {
+                        chains += 1;
+                        StoredRay::new(origin / beta, d)
+                    }
+                    None => sources[nearest.planes[0][p] as usize],
+                }
+            };
+            assert_eq!(bits(&rays[p]), bits(&want), "pixel {p}");
+            assert_eq!(bits(&baseline[p]), bits(&want), "pixel {p}, baseline");
+        }
+        assert!(chains > n / 2, "{chains} chains");
     }
 
     #[test]

@@ -81,10 +81,19 @@ fn transpose(src: &[u32], w: usize, h: usize, dst: &mut [u32]) {
     }
 }
 
+/// The pixels a transform must fill: those with `pixel(p)`, all in the `columns` marked true
+/// (indexed by x).
+pub(crate) struct Query<'a, F> {
+    pub pixel: F,
+    pub columns: &'a [bool],
+}
+
 /// The exact nearest-feature transform over `rect` of an image `width` pixels wide: for every
-/// pixel p of `within` (a part of `rect`) with `query(p)`, `out[p]` becomes the index of the
+/// pixel p of `within` (a part of `rect`) with `query.pixel(p)`, `out[p]` becomes the index of the
 /// nearest of the `features` (pixel indices inside `rect`, in raster order), ties to the smallest
-/// y, then x. `out` is untouched elsewhere, and everywhere when there is no feature.
+/// y, then x. `out` is untouched elsewhere, and everywhere when there is no feature. A column x
+/// with `!query.columns[x]` must hold no pixel with `query.pixel(p)`: its column pass is
+/// skipped.
 ///
 /// The row pass fills `within`'s columns of every row of `rect` from that row's features (the
 /// feature lists are short: edges are a perimeter); the column pass builds each envelope from all
@@ -96,10 +105,11 @@ pub(crate) fn feature_transform(
     rect: Rect,
     within: Rect,
     features: &[u32],
-    query: impl Fn(usize) -> bool,
+    query: Query<impl Fn(usize) -> bool>,
     out: &mut [u32],
     scratch: &mut Scratch,
 ) {
+    let Query { pixel: query, columns: wanted } = query;
     let rh = rect.height();
     let (qw, qh) = (within.width(), within.height());
     if features.is_empty() || rect.width() == 0 || rh == 0 || qw == 0 || qh == 0 {
@@ -148,6 +158,10 @@ pub(crate) fn feature_transform(
     // Pass 2, columns: lower envelope of the parabolas f(y') + (y − y')², f(y') = (x − column)².
     let skip = within.y0 - rect.y0;
     for (rx, (column, res)) in columns.chunks_exact(rh).zip(result.chunks_exact_mut(qh)).enumerate() {
+        if !wanted[within.x0 + rx] {
+            // Nothing to write in this column: its stale result is never read.
+            continue;
+        }
         let x = (within.x0 + rx) as i64;
         sites.clear();
         breaks.clear();
@@ -253,12 +267,20 @@ pub(crate) fn nearest_edges(
         edge_lists[k].push(p as u32);
     }
     let whole = Rect { x0: 0, y0: 0, x1: width, y1: height };
+    // Columns with a background pixel: only they are ever queried (a column all camera pixels,
+    // as between the strips of a collage, needs no envelope).
+    let mut wanted = vec![false; width];
+    for row in cam.chunks_exact(width) {
+        wanted.iter_mut().zip(row).for_each(|(w, &c)| *w |= c == 0);
+    }
+    let wanted = &wanted;
     let plane_of = |k: usize, scratch: &mut Scratch| {
         let mut plane = vec![NONE; cam.len()];
         let (part, all) = (&participates[k], &edge_lists[k]);
         if regions == 1 {
             // No region image: no region logic.
-            feature_transform(width, whole, whole, all, |p| cam[p] == 0, &mut plane, scratch);
+            let query = Query { pixel: |p: usize| cam[p] == 0, columns: wanted };
+            feature_transform(width, whole, whole, all, query, &mut plane, scratch);
             return plane;
         }
         // Regions without an edge of c still need e_c(P) there: the nearest edge anywhere.
@@ -275,11 +297,11 @@ pub(crate) fn nearest_edges(
             let r = r as u32;
             in_region.clear();
             in_region.extend(all.iter().copied().filter(|&p| region[p as usize] == r));
-            let query = |p: usize| cam[p] == 0 && region[p] == r;
+            let query = Query { pixel: |p: usize| cam[p] == 0 && region[p] == r, columns: wanted };
             feature_transform(width, *rect, *rect, &in_region, query, &mut plane, scratch);
         }
         if let Some(within) = elsewhere {
-            let query = |p: usize| cam[p] == 0 && !part[region[p] as usize];
+            let query = Query { pixel: |p: usize| cam[p] == 0 && !part[region[p] as usize], columns: wanted };
             feature_transform(width, whole, within, all, query, &mut plane, scratch);
         }
         plane
