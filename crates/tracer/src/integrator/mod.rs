@@ -57,7 +57,8 @@ pub struct IntegratorConfig {
     pub rr_depth: u32,
     /// Paths continued from each camera ray's first hit (first-vertex splitting; 1: none). The
     /// first hit's emission and light sample are taken once; `split` BSDF samples each carry on
-    /// a path of their own with weight 1/`split` (Russian roulette judges each at full weight).
+    /// a path of their own with weight 1/`split` (Russian roulette judges each against its own
+    /// first throughput, so the 1/`split` cancels).
     /// Where indirect light makes the noise (nearly all of the Cornell box's), it then gets
     /// `split` paths per camera ray, traced and shaded once; where the camera's own
     /// dimensions do (textures, depth of field), splitting only adds cost.
@@ -66,10 +67,10 @@ pub struct IntegratorConfig {
 }
 
 impl IntegratorConfig {
-    /// A general-purpose default: 8 scattering vertices, roulette after 5. (Throughput-based
-    /// roulette only pays on long paths: from depth 3 it cost the Cornell box more noise than
-    /// it saved time; docs/performance.md, ledger: "Russian roulette from depth 3".)
-    pub const DEFAULT: Self = Self { max_depth: 8, rr_depth: 5, split: 1 };
+    /// A general-purpose default: 8 scattering vertices, roulette after 3 (judged against the
+    /// first vertex's throughput: docs/performance.md, ledger "roulette against the first
+    /// vertex").
+    pub const DEFAULT: Self = Self { max_depth: 8, rr_depth: 3, split: 1 };
 
     /// The same configuration with another maximum depth.
     pub const fn with_max_depth(self, max_depth: u32) -> Self {

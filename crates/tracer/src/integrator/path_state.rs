@@ -74,6 +74,9 @@ pub(super) struct PathState {
     specular: bool,
     /// Scattering vertices behind the path (0: `ray` is the camera ray).
     depth: u32,
+    /// The largest component of the throughput the first vertex passed on (the branch's,
+    /// weight 1/N included): Russian roulette's yardstick.
+    first_beta: f32,
     /// The triangles `ray` cannot hit: the one it leaves and its leaf-mates behind it.
     leaving: Leaving,
     /// The light-sample numbers of the next vertex.
@@ -118,6 +121,7 @@ impl PathState {
             prev_n: Vec3::ZERO,
             specular: false,
             depth: 0,
+            first_beta: 1.0,
             leaving: Leaving::NOTHING,
             u_light,
             sampler,
@@ -263,13 +267,16 @@ impl PathState {
         self.leaving = tracer.bvh.leaving(v.hit.slot, self.ray.direction);
         if depth == 0 {
             self.beta *= tracer.branch_weight;
+            self.first_beta = self.beta.max_element().max(f32::MIN_POSITIVE);
         }
         self.depth += 1;
         if depth + 1 >= tracer.config.rr_depth {
-            // A branch's throughput at full weight (its 1/N left out, ×1 exactly when unsplit):
-            // with the 1/N in, roulette would end N − 1 of N branches on average at their first
-            // vertex and undo the split.
-            let q = (1.0 - self.beta.max_element() * tracer.config.split as f32).max(0.0);
+            // Survival √(β / β₁), β₁ the throughput the first vertex passed on: a pixel's value
+            // scales with β₁, so paths are judged by what they still carry of their own pixel's
+            // light, not by what a bright pixel carries (a dark first surface does not doom its
+            // paths); the root spares paths more than β / β₁ would (docs/design.md §3.3). A
+            // split branch's 1/N is in both and cancels.
+            let q = (1.0 - (self.beta.max_element() / self.first_beta).sqrt()).max(0.0);
             if decisions.get(Decisions::ROULETTE) < q {
                 return false;
             }

@@ -163,14 +163,20 @@ fn split_branches_resume_at_the_first_hit() {
         assert_eq!(r.stats.samples, 8 * 6 * 4);
         assert_eq!(r.stats.rays, r.stats.samples * (1 + split as u64), "split {split}");
     }
-    // Roulette from the first vertex judges each branch at full weight: a branch's
-    // throughput there is the albedo (0.5), so it survives with probability 1/2 whatever N
-    // (with its 1/N in, 1/(2N): the split undone), and a sample traces 1 + N/2 rays.
-    let tracer = PathTracer::new(&boxed, config.with_rr_depth(1).with_split(4)).unwrap();
+    // Roulette judges a branch against its own first throughput, in which its 1/N is too: at
+    // the first vertex every branch goes on (β / β₁ = 1), at the second it survives with
+    // probability √(albedo) = √½ whatever N (with the 1/N in a rule on β alone, far less: the
+    // split undone). Three vertices, the last by light sampling alone: a sample traces the
+    // camera ray, N branch rays, and N·√½ rays from the second vertex.
+    let tracer = PathTracer::new(&boxed, config.with_max_depth(3).with_rr_depth(1).with_split(4)).unwrap();
     let r = render(&tracer, inside.as_ref(), &mut LensChain::new(), &RenderSettings::still(64), &NoProgress)
         .unwrap();
     let per_sample = r.stats.rays as f64 / r.stats.samples as f64;
-    assert!((per_sample - 3.0).abs() < 0.1, "{per_sample} rays per sample with roulette");
+    let expected = 1.0 + 4.0 + 4.0 * 0.5f64.sqrt();
+    assert!(
+        (per_sample - expected).abs() < 0.1,
+        "{per_sample} rays per sample with roulette, not {expected}"
+    );
     // The camera outside the box, looking away: every camera ray misses.
     let away = CameraDesc::look_at(
         "away",
