@@ -27,7 +27,8 @@ pub fn scratch(name: &str) -> PathBuf {
 
 /// Small settings so tests run in seconds.
 pub const RES: [u32; 2] = [48, 32];
-pub const SETTINGS: EngineSettings = EngineSettings { preview_spp: 4, view_spp: 2, coarse_divisor: 4 };
+pub const SETTINGS: EngineSettings =
+    EngineSettings { preview_spp: 4, view_spp: 2, coarse_divisor: 4, render_nice: None };
 
 /// A studio on the Cornell box at [`RES`], saving to `dir`.
 pub fn start(dir: &Path) -> Running {

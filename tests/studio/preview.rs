@@ -11,7 +11,8 @@ use tracer::image_io::{linear_to_srgb8, read_exr_rgb, srgb8_to_linear};
 
 /// Views at 1 spp, so that every idle step is a pure rerender (docs/studio.md, "Engine", 6):
 /// the series 1, 4, 16, 64.
-const SERIES: EngineSettings = EngineSettings { preview_spp: 64, view_spp: 1, coarse_divisor: 4 };
+const SERIES: EngineSettings =
+    EngineSettings { preview_spp: 64, view_spp: 1, coarse_divisor: 4, render_nice: None };
 
 /// The reference's sample count: its own error adds 64/4096 < 2 % to the last step's.
 const REFERENCE_SPP: u32 = 4096;

@@ -4,6 +4,7 @@
 //! resolution with more samples while idle. A newer change cancels stale work between tiles.
 
 pub mod pictures;
+pub mod priority;
 pub mod worker;
 
 use crate::error::Result;
@@ -29,11 +30,13 @@ pub struct EngineSettings {
     pub view_spp: u32,
     /// The coarse preview and thumbnails are the collage resolution divided by this.
     pub coarse_divisor: u32,
+    /// The nice value the render threads run at, at least (`priority`; `None`: as started).
+    pub render_nice: Option<i32>,
 }
 
 impl Default for EngineSettings {
     fn default() -> Self {
-        Self { preview_spp: 16, view_spp: 4, coarse_divisor: 4 }
+        Self { preview_spp: 16, view_spp: 4, coarse_divisor: 4, render_nice: Some(priority::RENDER_NICE) }
     }
 }
 
@@ -61,13 +64,26 @@ pub struct Shared {
     pub final_cancel: AtomicBool,
     /// Serialises saves (several tabs: the last save wins, whole).
     pub save_lock: Mutex<()>,
+    /// The threads every preview, save and final render runs on, below the page's priority.
+    pub pool: rayon::ThreadPool,
 }
 
 impl Shared {
     /// Shared state around `session`.
-    pub fn new(session: Session, source: SceneSource, settings: EngineSettings, project: PathBuf) -> Self {
+    pub fn new(
+        session: Session,
+        source: SceneSource,
+        settings: EngineSettings,
+        project: PathBuf,
+    ) -> Result<Self> {
         let (out, _) = broadcast::channel(256);
-        Self {
+        let nice = settings.render_nice;
+        let pool = rayon::ThreadPoolBuilder::new()
+            .thread_name(|i| format!("studio-render-{i}"))
+            .start_handler(move |_| nice.into_iter().for_each(priority::lower_current_thread))
+            .build()
+            .map_err(|e| crate::error::StudioError::Server(format!("starting the render threads: {e}")))?;
+        Ok(Self {
             seq: AtomicU64::new(session.seq),
             session: Mutex::new(session),
             wake: Condvar::new(),
@@ -80,7 +96,8 @@ impl Shared {
             final_running: AtomicBool::new(false),
             final_cancel: AtomicBool::new(false),
             save_lock: Mutex::new(()),
-        }
+            pool,
+        })
     }
 
     /// The session, locked (a panic elsewhere does not lock it forever).
@@ -171,6 +188,9 @@ impl Progress for Stale<'_> {
 pub fn start_worker(shared: Arc<Shared>) -> std::thread::JoinHandle<()> {
     std::thread::Builder::new()
         .name("studio-preview".into())
-        .spawn(move || Worker::new(shared).run())
+        .spawn(move || {
+            shared.settings.render_nice.into_iter().for_each(priority::lower_current_thread);
+            Worker::new(shared).run()
+        })
         .expect("a thread starts")
 }

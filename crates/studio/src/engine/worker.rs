@@ -59,7 +59,8 @@ impl Worker {
                 None => return,
             };
             done = snap.seq;
-            if let Err(e) = self.refresh(&snap)
+            let shared = Arc::clone(&self.shared);
+            if let Err(e) = shared.pool.install(|| self.refresh(&snap))
                 && !e.is_cancelled()
             {
                 self.shared.broadcast(Outbound::error(None, format!("preview: {e}")));

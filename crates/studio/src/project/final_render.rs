@@ -63,7 +63,7 @@ pub fn start_final(shared: &Arc<Shared>, id: Option<u64>, res: [u32; 2], spp: u3
     shared.final_cancel.store(false, Ordering::SeqCst);
     let shared = Arc::clone(shared);
     std::thread::spawn(move || {
-        let reply = match render_final(&shared, res, spp) {
+        let reply = match shared.pool.install(|| render_final(&shared, res, spp)) {
             Ok((exr, image)) => {
                 let header = ImageHeader {
                     kind: ImageKind::Final,

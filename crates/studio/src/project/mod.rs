@@ -178,7 +178,7 @@ pub fn open_session(config: &Config) -> Result<Shared> {
         None => open_project(&project)?,
     };
     let engine = crate::EngineSettings { ..config.engine };
-    Ok(Shared::new(session, source, engine, project))
+    Shared::new(session, source, engine, project)
 }
 
 /// Opens the project saved in `dir`.

@@ -28,8 +28,12 @@ pub fn key_collage(frame: u32) -> PathBuf {
     Path::new(KEYS).join(format!("frame{frame:04}.png"))
 }
 
-/// Writes the project folder; returns it.
+/// Writes the project folder; returns it. Its views render on the studio's render threads.
 pub fn save(shared: &Shared) -> Result<PathBuf> {
+    shared.pool.install(|| save_on_pool(shared))
+}
+
+fn save_on_pool(shared: &Shared) -> Result<PathBuf> {
     let _one_at_a_time = shared.save_lock.lock().unwrap_or_else(|e| e.into_inner());
     let (keys, res, frame, seamless) = {
         let s = shared.session();
