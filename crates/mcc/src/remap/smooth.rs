@@ -19,6 +19,7 @@
 //! values leaves no drift worth the name; the clipped window is the product of its clipped row and
 //! column extents, which is the count to divide by.
 
+use crate::lanes::has_avx2;
 use rayon::prelude::*;
 
 /// The ease curve with control `g` ∈ (0, 1) (see the module notes).
@@ -70,6 +71,10 @@ pub(crate) struct Scratch {
     prefix: Vec<f64>,
 }
 
+/// Rows whose prefix sums run side by side in the horizontal pass: four independent chains of
+/// f64 additions instead of one keep the adder busy (each row's sum keeps its own order).
+const ROWS_AT_ONCE: usize = 4;
+
 /// Box blur of `src` into `dst` with window radius `radius`, dividing by the in-image window
 /// count, writing only where `background` is true (elsewhere `dst` gets `src`'s value).
 pub(crate) fn box_blur(
@@ -85,30 +90,72 @@ pub(crate) fn box_blur(
         dst.copy_from_slice(src);
         return;
     }
+    #[cfg(target_arch = "x86_64")]
+    if has_avx2() {
+        // SAFETY: the CPU has AVX2 (`has_avx2`).
+        unsafe { box_blur_avx2(src, dst, background, width, height, radius, scratch) };
+        return;
+    }
+    box_blur_body(src, dst, background, width, height, radius, scratch);
+}
+
+/// [`box_blur_body`] compiled with AVX2: the same IEEE operations (no FMA), the same bits.
+///
+/// # Safety
+/// The CPU must have AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn box_blur_avx2(
+    src: &[f32],
+    dst: &mut [f32],
+    background: &[bool],
+    width: usize,
+    height: usize,
+    radius: usize,
+    scratch: &mut Scratch,
+) {
+    box_blur_body(src, dst, background, width, height, radius, scratch);
+}
+
+/// [`box_blur`] for a radius above 0.
+#[inline(always)]
+fn box_blur_body(
+    src: &[f32],
+    dst: &mut [f32],
+    background: &[bool],
+    width: usize,
+    height: usize,
+    radius: usize,
+    scratch: &mut Scratch,
+) {
     let Scratch { rows, columns, inverse_x, prefix, .. } = scratch;
     rows.resize(src.len(), 0.0);
     // Horizontal: sum over [x − r, x + r] ∩ [0, w) as a difference of prefix sums (one serial
-    // add per pixel, the differences independent of each other).
-    prefix.resize(width + 1, 0.0);
-    for (s, h) in src.chunks_exact(width).zip(rows.chunks_exact_mut(width)) {
-        let mut sum = 0.0f64;
-        for (p, &v) in prefix[1..].iter_mut().zip(s) {
-            sum += v as f64;
-            *p = sum;
-        }
-        // Clipped windows at both ends; in between, one subtraction of two shifted slices.
-        let window =
-            |x: usize| (prefix[(x + radius + 1).min(width)] - prefix[x.saturating_sub(radius)]) as f32;
-        let (left, right) = (radius.min(width), width.saturating_sub(radius).max(radius.min(width)));
-        for x in (0..left).chain(right..width) {
-            h[x] = window(x);
-        }
-        if right > left {
-            let (hi, lo) =
-                (&prefix[left + radius + 1..=right + radius], &prefix[left - radius..right - radius]);
-            for ((out, &a), &b) in h[left..right].iter_mut().zip(hi).zip(lo) {
-                *out = (a - b) as f32;
+    // add per pixel, the differences independent of each other); prefix[j·(w + 1)] is 0.
+    let stride = width + 1;
+    prefix.resize(ROWS_AT_ONCE * stride, 0.0);
+    prefix.iter_mut().step_by(stride).for_each(|p| *p = 0.0);
+    for (s, h) in src.chunks(ROWS_AT_ONCE * width).zip(rows.chunks_mut(ROWS_AT_ONCE * width)) {
+        let n = s.len() / width;
+        if n == ROWS_AT_ONCE {
+            let mut sum = [0.0f64; ROWS_AT_ONCE];
+            for x in 0..width {
+                for j in 0..ROWS_AT_ONCE {
+                    sum[j] += s[j * width + x] as f64;
+                    prefix[j * stride + x + 1] = sum[j];
+                }
             }
+        } else {
+            for (j, s) in s.chunks_exact(width).enumerate() {
+                let mut sum = 0.0f64;
+                for (p, &v) in prefix[j * stride + 1..(j + 1) * stride].iter_mut().zip(s) {
+                    sum += v as f64;
+                    *p = sum;
+                }
+            }
+        }
+        for (j, h) in h.chunks_exact_mut(width).enumerate() {
+            window_row(&prefix[j * stride..(j + 1) * stride], h, radius);
         }
     }
     // Vertical: a running total per column over rows [y − r, y + r] ∩ [0, h).
@@ -123,23 +170,76 @@ pub(crate) fn box_blur(
         (0..width).map(|x| 1.0 / ((x + radius).min(width - 1) + 1 - x.saturating_sub(radius)) as f64),
     );
     for y in 0..height {
-        if y + radius < height {
-            let add = &rows[(y + radius) * width..(y + radius + 1) * width];
-            columns.iter_mut().zip(add).for_each(|(c, &v)| *c += v as f64);
-        }
         let inverse_y = 1.0 / ((y + radius).min(height - 1) + 1 - y.saturating_sub(radius)) as f64;
         let range = y * width..(y + 1) * width;
-        let (out, keep, bg) = (&mut dst[range.clone()], &src[range.clone()], &background[range]);
-        for (((out, &keep), &bg), (&sum, &inverse)) in
-            out.iter_mut().zip(keep).zip(bg).zip(columns.iter().zip(&*inverse_x))
-        {
-            let blurred = (sum * inverse * inverse_y) as f32;
-            *out = if bg { blurred } else { keep };
+        let row =
+            Row { out: &mut dst[range.clone()], keep: &src[range.clone()], background: &background[range] };
+        let add = (y + radius < height).then(|| &rows[(y + radius) * width..(y + radius + 1) * width]);
+        let sub = (y >= radius).then(|| &rows[(y - radius) * width..(y - radius + 1) * width]);
+        // One pass per row: add the row entering the window, write, remove the row leaving it.
+        match (add, sub) {
+            (Some(a), Some(s)) => vertical_row::<true, true>(row, columns, inverse_x, inverse_y, a, s),
+            (Some(a), None) => vertical_row::<true, false>(row, columns, inverse_x, inverse_y, a, a),
+            (None, Some(s)) => vertical_row::<false, true>(row, columns, inverse_x, inverse_y, s, s),
+            (None, None) => vertical_row::<false, false>(row, columns, inverse_x, inverse_y, &[], &[]),
         }
-        if y >= radius {
-            let sub = &rows[(y - radius) * width..(y - radius + 1) * width];
-            columns.iter_mut().zip(sub).for_each(|(c, &v)| *c -= v as f64);
+    }
+}
+
+/// One row of the horizontal pass: window sums from the row's prefix sums (`prefix[0]` = 0).
+#[inline(always)]
+fn window_row(prefix: &[f64], h: &mut [f32], radius: usize) {
+    let width = h.len();
+    // Clipped windows at both ends; in between, one subtraction of two shifted slices.
+    let window = |x: usize| (prefix[(x + radius + 1).min(width)] - prefix[x.saturating_sub(radius)]) as f32;
+    let (left, right) = (radius.min(width), width.saturating_sub(radius).max(radius.min(width)));
+    for x in (0..left).chain(right..width) {
+        h[x] = window(x);
+    }
+    if right > left {
+        let (hi, lo) = (&prefix[left + radius + 1..=right + radius], &prefix[left - radius..right - radius]);
+        for ((out, &a), &b) in h[left..right].iter_mut().zip(hi).zip(lo) {
+            *out = (a - b) as f32;
         }
+    }
+}
+
+/// One output row of the vertical pass and what it writes from.
+struct Row<'a> {
+    out: &'a mut [f32],
+    keep: &'a [f32],
+    background: &'a [bool],
+}
+
+/// The vertical pass at one row: per column, the total plus the entering row (`ADD`), the
+/// blurred value where background, the total minus the leaving row (`SUB`) — the order of the
+/// three separate passes this fuses, so the same bits.
+#[inline(always)]
+fn vertical_row<const ADD: bool, const SUB: bool>(
+    row: Row,
+    columns: &mut [f64],
+    inverse_x: &[f64],
+    inverse_y: f64,
+    add: &[f32],
+    sub: &[f32],
+) {
+    let Row { out, keep, background } = row;
+    let width = out.len();
+    let (out, keep, background, inverse_x) =
+        (&mut out[..width], &keep[..width], &background[..width], &inverse_x[..width]);
+    let columns = &mut columns[..width];
+    let (add, sub) = (&add[..if ADD { width } else { 0 }], &sub[..if SUB { width } else { 0 }]);
+    for x in 0..width {
+        let mut c = columns[x];
+        if ADD {
+            c += add[x] as f64;
+        }
+        let blurred = (c * inverse_x[x] * inverse_y) as f32;
+        out[x] = if background[x] { blurred } else { keep[x] };
+        if SUB {
+            c -= sub[x] as f64;
+        }
+        columns[x] = c;
     }
 }
 
@@ -205,6 +305,79 @@ mod tests {
     use super::*;
     use crate::test_util::Rng;
 
+    /// The blur as first written (three passes per row, one prefix chain at a time): the fused,
+    /// interleaved blur must give its bits.
+    fn reference_blur(
+        src: &[f32],
+        dst: &mut [f32],
+        background: &[bool],
+        width: usize,
+        height: usize,
+        radius: usize,
+        scratch: &mut Scratch,
+    ) {
+        if radius == 0 {
+            dst.copy_from_slice(src);
+            return;
+        }
+        let Scratch { rows, columns, inverse_x, prefix, .. } = scratch;
+        rows.resize(src.len(), 0.0);
+        // Horizontal: sum over [x − r, x + r] ∩ [0, w) as a difference of prefix sums (one serial
+        // add per pixel, the differences independent of each other).
+        prefix.resize(width + 1, 0.0);
+        for (s, h) in src.chunks_exact(width).zip(rows.chunks_exact_mut(width)) {
+            let mut sum = 0.0f64;
+            for (p, &v) in prefix[1..].iter_mut().zip(s) {
+                sum += v as f64;
+                *p = sum;
+            }
+            // Clipped windows at both ends; in between, one subtraction of two shifted slices.
+            let window =
+                |x: usize| (prefix[(x + radius + 1).min(width)] - prefix[x.saturating_sub(radius)]) as f32;
+            let (left, right) = (radius.min(width), width.saturating_sub(radius).max(radius.min(width)));
+            for x in (0..left).chain(right..width) {
+                h[x] = window(x);
+            }
+            if right > left {
+                let (hi, lo) =
+                    (&prefix[left + radius + 1..=right + radius], &prefix[left - radius..right - radius]);
+                for ((out, &a), &b) in h[left..right].iter_mut().zip(hi).zip(lo) {
+                    *out = (a - b) as f32;
+                }
+            }
+        }
+        // Vertical: a running total per column over rows [y − r, y + r] ∩ [0, h).
+        columns.clear();
+        columns.resize(width, 0.0);
+        for h in rows.chunks_exact(width).take(radius.min(height)) {
+            columns.iter_mut().zip(h).for_each(|(c, &v)| *c += v as f64);
+        }
+        // 1 / (in-image columns of the window) per x: multiplied, not divided, in the pixel loop.
+        inverse_x.clear();
+        inverse_x.extend(
+            (0..width).map(|x| 1.0 / ((x + radius).min(width - 1) + 1 - x.saturating_sub(radius)) as f64),
+        );
+        for y in 0..height {
+            if y + radius < height {
+                let add = &rows[(y + radius) * width..(y + radius + 1) * width];
+                columns.iter_mut().zip(add).for_each(|(c, &v)| *c += v as f64);
+            }
+            let inverse_y = 1.0 / ((y + radius).min(height - 1) + 1 - y.saturating_sub(radius)) as f64;
+            let range = y * width..(y + 1) * width;
+            let (out, keep, bg) = (&mut dst[range.clone()], &src[range.clone()], &background[range]);
+            for (((out, &keep), &bg), (&sum, &inverse)) in
+                out.iter_mut().zip(keep).zip(bg).zip(columns.iter().zip(&*inverse_x))
+            {
+                let blurred = (sum * inverse * inverse_y) as f32;
+                *out = if bg { blurred } else { keep };
+            }
+            if y >= radius {
+                let sub = &rows[(y - radius) * width..(y - radius + 1) * width];
+                columns.iter_mut().zip(sub).for_each(|(c, &v)| *c -= v as f64);
+            }
+        }
+    }
+
     /// The definition: average over the clipped window, background pixels only.
     fn brute_blur(src: &[f32], bg: &[bool], w: usize, h: usize, r: usize) -> Vec<f32> {
         (0..w * h)
@@ -229,6 +402,22 @@ mod tests {
         let bg: Vec<bool> = (0..w * h).map(|_| rng.below(3) != 0).collect();
         let plane = bg.iter().map(|&b| if b { rng.unit() } else { rng.below(2) as f32 }).collect();
         (plane, bg)
+    }
+
+    #[test]
+    fn blur_gives_the_first_blurs_bits() {
+        let mut rng = Rng::new(5);
+        let (mut scratch, mut reference) = (Scratch::default(), Scratch::default());
+        for _ in 0..300 {
+            let (w, h) = (1 + rng.below(40) as usize, 1 + rng.below(23) as usize);
+            let r = 1 + rng.below(6) as usize;
+            let (plane, bg) = random_plane(&mut rng, w, h);
+            let (mut got, mut want) = (vec![0.0; w * h], vec![0.0; w * h]);
+            box_blur(&plane, &mut got, &bg, w, h, r, &mut scratch);
+            reference_blur(&plane, &mut want, &bg, w, h, r, &mut reference);
+            let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&got), bits(&want), "{w}x{h} r={r}");
+        }
     }
 
     #[test]

@@ -15,6 +15,7 @@
 
 use super::RemapWarning;
 use super::nearest::NearestEdges;
+use crate::lanes::has_avx2;
 use crate::regions::Regions;
 use rayon::prelude::*;
 
@@ -80,6 +81,146 @@ pub(crate) fn participants(
     (lists, warnings)
 }
 
+/// Background pixels per step of the weights' lane loop: two AVX2 vectors of f64.
+const LANES: usize = 8;
+
+/// What every row of [`initial_weights`] reads.
+#[derive(Clone, Copy)]
+struct Inputs<'a> {
+    cam: &'a [u32],
+    region: &'a [u32],
+    nearest: &'a NearestEdges,
+    participants: &'a [Vec<usize>],
+    width: usize,
+}
+
+/// Reusable per-task buffers: a row's background columns, per-participant distance and weight
+/// lanes, and one pixel's distances and weights for the scalar path.
+#[derive(Default)]
+struct RowScratch {
+    columns: Vec<u32>,
+    d: Vec<[f64; LANES]>,
+    alpha: Vec<[f64; LANES]>,
+    scalar_d: Vec<f64>,
+    scalar_alpha: Vec<f64>,
+}
+
+/// The distance from pixel (x, y) to pixel index `e` of an image `w` pixels wide.
+#[inline(always)]
+fn distance(e: u32, x: u32, y: u32, w: u32) -> f64 {
+    // Row and column in f64, exactly (e < 2³² and w < 2³²: the rounded quotient never reaches the
+    // next integer), so the lane loop divides in vectors rather than one integer at a time.
+    let (e, w) = (e as f64, w as f64);
+    let ey = (e / w).floor();
+    let (dx, dy) = (e - ey * w - x as f64, ey - y as f64);
+    (dx * dx + dy * dy).sqrt()
+}
+
+/// [`distance`] of a chunk's lanes, `e` and `w` already in f64: whole-array steps, which
+/// vectorise.
+#[inline(always)]
+fn distances(e: &[f64; LANES], xs: &[f64; LANES], y: f64, w: f64) -> [f64; LANES] {
+    let ey: [f64; LANES] = std::array::from_fn(|i| (e[i] / w).floor());
+    let dx: [f64; LANES] = std::array::from_fn(|i| e[i] - ey[i] * w - xs[i]);
+    let dy: [f64; LANES] = std::array::from_fn(|i| ey[i] - y);
+    std::array::from_fn(|i| (dx[i] * dx[i] + dy[i] * dy[i]).sqrt())
+}
+
+/// One background pixel, through [`interpolation_weights`].
+#[inline(always)]
+fn pixel_weights(x: usize, y: usize, row: &mut [&mut [f32]], scratch: &mut RowScratch, inputs: Inputs) {
+    let p = y * inputs.width + x;
+    let s = &inputs.participants[inputs.region[p] as usize];
+    let RowScratch { scalar_d: d, scalar_alpha: alpha, .. } = scratch;
+    d.clear();
+    d.extend(
+        s.iter().map(|&k| distance(inputs.nearest.planes[k][p], x as u32, y as u32, inputs.width as u32)),
+    );
+    alpha.resize(s.len(), 0.0);
+    interpolation_weights(d, alpha);
+    for (&k, &a) in s.iter().zip(alpha.iter()) {
+        row[k][x] = a as f32;
+    }
+}
+
+/// One row of [`initial_weights`]: camera pixels 1 for their camera; background pixels in chunks
+/// of [`LANES`] sharing a region, each lane [`interpolation_weights`]' operations in its order
+/// (the same bits); a chunk across regions or with a zero distance goes pixel by pixel.
+#[inline(always)]
+fn weights_row_body(y: usize, row: &mut [&mut [f32]], scratch: &mut RowScratch, inputs: Inputs) {
+    let Inputs { cam, region, nearest, participants, width } = inputs;
+    let base = y * width;
+    scratch.columns.clear();
+    for x in 0..width {
+        match cam[base + x] {
+            0 => scratch.columns.push(x as u32),
+            c => row[c as usize - 1][x] = 1.0,
+        }
+    }
+    let columns = std::mem::take(&mut scratch.columns);
+    for chunk in columns.chunks(LANES) {
+        let r = region[base + chunk[0] as usize];
+        let s = &participants[r as usize];
+        if chunk.len() < LANES || s.len() < 2 || chunk.iter().any(|&x| region[base + x as usize] != r) {
+            chunk.iter().for_each(|&x| pixel_weights(x as usize, y, row, scratch, inputs));
+            continue;
+        }
+        let xs: [u32; LANES] = chunk.try_into().expect("a whole chunk");
+        let xf = xs.map(|x| x as f64);
+        let RowScratch { d, alpha, .. } = scratch;
+        d.resize(s.len(), [0.0; LANES]);
+        alpha.resize(s.len(), [0.0; LANES]);
+        for (dk, &k) in d.iter_mut().zip(s) {
+            let plane = &nearest.planes[k];
+            // Gather first, then one loop over whole arrays: it vectorises.
+            let e: [f64; LANES] = std::array::from_fn(|i| plane[base + xs[i] as usize] as f64);
+            *dk = distances(&e, &xf, y as f64, width as f64);
+        }
+        if d.iter().any(|dk| dk.contains(&0.0)) {
+            chunk.iter().for_each(|&x| pixel_weights(x as usize, y, row, scratch, inputs));
+            continue;
+        }
+        // D = Σ d in the scalar sum's order; (D − d_k) / d_k; their sum; then the division.
+        let mut total = d[0];
+        for dk in &d[1..] {
+            for (t, &di) in total.iter_mut().zip(dk) {
+                *t += di;
+            }
+        }
+        let mut sum = [0.0f64; LANES];
+        for (ak, dk) in alpha.iter_mut().zip(d.iter()) {
+            for i in 0..LANES {
+                ak[i] = (total[i] - dk[i]).max(0.0) / dk[i];
+                sum[i] += ak[i];
+            }
+        }
+        let equal = 1.0 / s.len() as f64;
+        for (ak, &k) in alpha.iter().zip(s) {
+            let out = &mut row[k];
+            for i in 0..LANES {
+                let ok = sum[i] > 0.0 && sum[i].is_finite();
+                out[chunk[i] as usize] = (if ok { ak[i] / sum[i] } else { equal }) as f32;
+            }
+        }
+    }
+    scratch.columns = columns;
+}
+
+/// [`weights_row_body`] compiled for baseline x86-64.
+fn weights_row_baseline(y: usize, row: &mut [&mut [f32]], scratch: &mut RowScratch, inputs: Inputs) {
+    weights_row_body(y, row, scratch, inputs);
+}
+
+/// [`weights_row_body`] compiled with AVX2: the same IEEE operations (no FMA), the same bits.
+///
+/// # Safety
+/// The CPU must have AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn weights_row_avx2(y: usize, row: &mut [&mut [f32]], scratch: &mut RowScratch, inputs: Inputs) {
+    weights_row_body(y, row, scratch, inputs);
+}
+
 /// The initial weight planes (one per camera index, f32): rows in parallel, every plane's row
 /// written by the task that owns the row.
 pub(crate) fn initial_weights(
@@ -90,35 +231,20 @@ pub(crate) fn initial_weights(
     cameras: usize,
     width: usize,
 ) -> Vec<Vec<f32>> {
-    let mut planes = vec![vec![0f32; cam.len()]; cameras];
+    let mut planes: Vec<Vec<f32>> = (0..cameras).map(|_| vec![0f32; cam.len()]).collect();
     let rows = super::rows_mut(&mut planes, width);
-    rows.into_par_iter().enumerate().for_each_init(
-        || (Vec::with_capacity(cameras), vec![0f64; cameras]),
-        |(d, alpha), (y, mut row)| {
-            // `row[k][x]` reaches across planes: an index loop is the clear form here.
-            #[allow(clippy::needless_range_loop)]
-            for x in 0..width {
-                let p = y * width + x;
-                let c = cam[p];
-                if c != 0 {
-                    row[c as usize - 1][x] = 1.0;
-                    continue;
-                }
-                let s = &participants[region[p] as usize];
-                d.clear();
-                for &k in s {
-                    // u32 division: several times cheaper than usize division on x86-64.
-                    let (e, w) = (nearest.planes[k][p], width as u32);
-                    let (dx, dy) = ((e % w) as f64 - x as f64, (e / w) as f64 - y as f64);
-                    d.push((dx * dx + dy * dy).sqrt());
-                }
-                interpolation_weights(d, &mut alpha[..s.len()]);
-                for (&k, &a) in s.iter().zip(alpha.iter()) {
-                    row[k][x] = a as f32;
-                }
-            }
-        },
-    );
+    let inputs = Inputs { cam, region, nearest, participants, width };
+    let avx2 = has_avx2();
+    rows.into_par_iter().enumerate().for_each_init(RowScratch::default, |scratch, (y, mut row)| {
+        #[cfg(target_arch = "x86_64")]
+        if avx2 {
+            // SAFETY: the CPU has AVX2 (`has_avx2`).
+            unsafe { weights_row_avx2(y, &mut row, scratch, inputs) };
+            return;
+        }
+        let _ = avx2;
+        weights_row_baseline(y, &mut row, scratch, inputs);
+    });
     planes
 }
 
@@ -135,6 +261,73 @@ mod tests {
             .collect();
         let sum: f64 = v.iter().sum();
         v.iter().map(|x| x / sum).collect()
+    }
+
+    /// The lanes against [`interpolation_weights`] pixel by pixel, bit for bit: random regions
+    /// (chunks across regions), one to six participants, and nearest pixels at distance 0.
+    #[test]
+    fn lanes_give_the_scalar_weights_bits() {
+        use crate::remap::nearest::NearestEdges;
+        let mut rng = crate::test_util::Rng::new(31);
+        for _ in 0..60 {
+            let (w, h, cameras) =
+                (1 + rng.below(45) as usize, 1 + rng.below(7) as usize, 1 + rng.below(6) as usize);
+            let n = w * h;
+            let cam: Vec<u32> =
+                (0..n).map(|_| if rng.below(4) == 0 { 1 + rng.below(cameras as u32) } else { 0 }).collect();
+            let regions = 1 + rng.below(3) as usize;
+            let region: Vec<u32> = (0..n)
+                .map(|p| ((p % w) / 11 + rng.below(2) as usize * (p / w)) as u32 % regions as u32)
+                .collect();
+            let participants: Vec<Vec<usize>> = (0..regions)
+                .map(|_| {
+                    let s: Vec<usize> = (0..cameras).filter(|_| rng.below(3) != 0).collect();
+                    if s.is_empty() { vec![0] } else { s }
+                })
+                .collect();
+            // Some nearest pixels are the pixel itself: distance 0.
+            let planes = (0..cameras)
+                .map(|_| {
+                    (0..n).map(|p| if rng.below(50) == 0 { p as u32 } else { rng.below(n as u32) }).collect()
+                })
+                .collect();
+            let nearest = NearestEdges { planes, participates: Vec::new() };
+            let got = initial_weights(&cam, &region, &nearest, &participants, cameras, w);
+            for p in 0..n {
+                let mut want = vec![0f32; cameras];
+                if cam[p] != 0 {
+                    want[cam[p] as usize - 1] = 1.0;
+                } else {
+                    let s = &participants[region[p] as usize];
+                    let d: Vec<f64> = s
+                        .iter()
+                        .map(|&k| distance(nearest.planes[k][p], (p % w) as u32, (p / w) as u32, w as u32))
+                        .collect();
+                    let mut alpha = vec![0.0; s.len()];
+                    interpolation_weights(&d, &mut alpha);
+                    s.iter().zip(&alpha).for_each(|(&k, &a)| want[k] = a as f32);
+                }
+                for k in 0..cameras {
+                    assert_eq!(got[k][p].to_bits(), want[k].to_bits(), "{w}x{h}, camera {k}, pixel {p}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn distance_in_floats_equals_integer_division() {
+        let mut rng = crate::test_util::Rng::new(32);
+        for i in 0..100_000u32 {
+            let w = 1 + rng.below(if i % 2 == 0 { 8000 } else { u32::MAX });
+            let e = match i % 3 {
+                0 => rng.below(u32::MAX),
+                1 => (rng.below(u32::MAX / w) * w).wrapping_sub(1),
+                _ => u32::MAX - rng.below(w),
+            };
+            let (x, y) = (rng.below(9000), rng.below(9000));
+            let (dx, dy) = ((e % w) as f64 - x as f64, (e / w) as f64 - y as f64);
+            assert_eq!(distance(e, x, y, w).to_bits(), (dx * dx + dy * dy).sqrt().to_bits(), "e {e}, w {w}");
+        }
     }
 
     #[test]
