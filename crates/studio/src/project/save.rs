@@ -30,11 +30,12 @@ pub fn key_collage(frame: u32) -> PathBuf {
 
 /// Writes the project folder; returns it. Its views render on the studio's render threads.
 pub fn save(shared: &Shared) -> Result<PathBuf> {
+    // A second tab's save waits here, outside the pool, not on one of its render threads.
+    let _one_at_a_time = shared.save_lock.lock().unwrap_or_else(|e| e.into_inner());
     shared.pool.install(|| save_on_pool(shared))
 }
 
 fn save_on_pool(shared: &Shared) -> Result<PathBuf> {
-    let _one_at_a_time = shared.save_lock.lock().unwrap_or_else(|e| e.into_inner());
     let (keys, res, frame, seamless) = {
         let s = shared.session();
         (s.keys.clone(), s.res, s.frame, s.seamless)
