@@ -39,6 +39,7 @@ use crate::collage::{Collage, StrayReport};
 use crate::error::{MccError, Result};
 use crate::ray_file::{RayFile, StoredRay};
 use crate::regions::{RegionInfo, Regions};
+use rayon::prelude::*;
 use std::borrow::Borrow;
 use std::collections::{BTreeMap, BTreeSet};
 use std::fmt;
@@ -180,8 +181,8 @@ impl SourceRays {
         Self { width: collage.width, height: collage.height, rays, cameras: BTreeSet::new() }
     }
 
-    /// Copies camera `id`'s rays at its collage pixels; `name` says which file they came from.
-    fn fill(&mut self, collage: &Collage, id: u32, file: &RayFile, name: &Path) -> Result<()> {
+    /// Refuses camera `id`'s ray file (`name` says which) unless it has the collage's size.
+    fn check_size(collage: &Collage, id: u32, file: &RayFile, name: &Path) -> Result<()> {
         if (file.width, file.height) != (collage.width, collage.height) {
             return Err(MccError::SizeMismatch {
                 path: name.into(),
@@ -191,6 +192,12 @@ impl SourceRays {
                 expected: (collage.width, collage.height),
             });
         }
+        Ok(())
+    }
+
+    /// Copies camera `id`'s rays at its collage pixels; `name` says which file they came from.
+    fn fill(&mut self, collage: &Collage, id: u32, file: &RayFile, name: &Path) -> Result<()> {
+        Self::check_size(collage, id, file, name)?;
         for ((out, &c), ray) in self.rays.iter_mut().zip(&collage.ids).zip(&file.rays) {
             if c == id {
                 *out = *ray;
@@ -200,14 +207,34 @@ impl SourceRays {
         Ok(())
     }
 
-    /// Gathers from ray files already in memory (camera id → file, owned or borrowed).
+    /// Gathers from ray files already in memory (camera id → file, owned or borrowed): one
+    /// parallel pass, each pixel written once.
     pub fn gather<F: Borrow<RayFile>>(collage: &Collage, files: &BTreeMap<u32, F>) -> Result<Self> {
-        let mut sources = Self::empty(collage);
-        for id in collage.cameras() {
-            let file = files.get(&id).ok_or_else(|| missing(id))?;
-            sources.fill(collage, id, file.borrow(), Path::new(&format!("<camera {id} rays>")))?;
+        let cameras = collage.cameras();
+        let mut used: Vec<(u32, &RayFile)> = Vec::with_capacity(cameras.len());
+        for &id in &cameras {
+            let file = files.get(&id).ok_or_else(|| missing(id))?.borrow();
+            Self::check_size(collage, id, file, Path::new(&format!("<camera {id} rays>")))?;
+            used.push((id, file));
         }
-        Ok(sources)
+        let mut rays = Vec::new();
+        // Ids come in runs: each task keeps the index of the last camera it looked up.
+        (0..collage.ids.len())
+            .into_par_iter()
+            .map_init(
+                || 0usize,
+                |k, p| match collage.ids[p] {
+                    0 => StoredRay::default(),
+                    id => {
+                        if used[*k].0 != id {
+                            *k = used.binary_search_by_key(&id, |u| u.0).expect("a camera of the collage");
+                        }
+                        used[*k].1.rays[p]
+                    }
+                },
+            )
+            .collect_into_vec(&mut rays);
+        Ok(Self { width: collage.width, height: collage.height, rays, cameras })
     }
 
     /// Loads the ray files of the collage's cameras (camera id → path), one at a time, so that

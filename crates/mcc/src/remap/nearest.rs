@@ -56,8 +56,6 @@ pub(crate) struct Scratch {
     rows: Vec<u32>,
     /// The same, column-major, so the column pass reads memory in order.
     columns: Vec<u32>,
-    /// Column pass, column-major: the nearest feature's pixel index.
-    result: Vec<u32>,
     /// Column pass: envelope sites as (row, f + row²), rows relative to the rectangle, and the
     /// breakpoints between consecutive sites as exact rationals (num, den > 0).
     sites: Vec<(i64, i64)>,
@@ -98,8 +96,8 @@ pub(crate) struct Query<'a, F> {
 /// The row pass fills `within`'s columns of every row of `rect` from that row's features (the
 /// feature lists are short: edges are a perimeter); the column pass builds each envelope from all
 /// of `rect`'s rows and reads it out at `within`'s rows. Both passes read memory in order: the row
-/// pass's result is transposed for the column pass, whose result is transposed back while writing
-/// `out`.
+/// pass's result is transposed for the column pass, which writes `out` column by column (the rows
+/// it touches stay in cache from one column to the next).
 pub(crate) fn feature_transform(
     width: usize,
     rect: Rect,
@@ -115,17 +113,14 @@ pub(crate) fn feature_transform(
     if features.is_empty() || rect.width() == 0 || rh == 0 || qw == 0 || qh == 0 {
         return;
     }
-    let Scratch { rows, columns, result, sites, breaks } = scratch;
+    let Scratch { rows, columns, sites, breaks } = scratch;
     // Every pass writes all of its buffer: grow them, but spend no time clearing.
     for buffer in [&mut *rows, &mut *columns] {
         if buffer.len() < qw * rh {
             buffer.resize(qw * rh, NONE);
         }
     }
-    if result.len() < qw * qh {
-        result.resize(qw * qh, NONE);
-    }
-    let (rows, columns, result) = (&mut rows[..qw * rh], &mut columns[..qw * rh], &mut result[..qw * qh]);
+    let (rows, columns) = (&mut rows[..qw * rh], &mut columns[..qw * rh]);
     // Pass 1, rows: nearest feature column, the left one on a tie. Between consecutive features
     // a < b of a row, x goes to a up to (a + b) / 2 (integer division: the tie goes left), to b
     // after; before the first and after the last the end feature holds.
@@ -157,9 +152,9 @@ pub(crate) fn feature_transform(
     transpose(rows, qw, rh, columns);
     // Pass 2, columns: lower envelope of the parabolas f(y') + (y − y')², f(y') = (x − column)².
     let skip = within.y0 - rect.y0;
-    for (rx, (column, res)) in columns.chunks_exact(rh).zip(result.chunks_exact_mut(qh)).enumerate() {
+    for (rx, column) in columns.chunks_exact(rh).enumerate() {
         if !wanted[within.x0 + rx] {
-            // Nothing to write in this column: its stale result is never read.
+            // Nothing to write in this column.
             continue;
         }
         let x = (within.x0 + rx) as i64;
@@ -190,26 +185,18 @@ pub(crate) fn feature_transform(
             sites.push((qi, hq));
         }
         // Walk the envelope; a breakpoint exactly at y keeps the earlier (smaller-row) site.
+        // Written straight into `out`, row-major: consecutive columns write the same few hundred
+        // cache lines, which stay in L1, so no transpose back is needed.
         let mut k = 0;
-        for (qy, slot) in res.iter_mut().enumerate() {
+        for qy in 0..qh {
             let ry = (skip + qy) as i64;
             while k < breaks.len() && breaks[k].0 < ry * breaks[k].1 {
                 k += 1;
             }
-            let site = sites[k].0 as usize;
-            *slot = ((rect.y0 + site) * width) as u32 + column[site];
-        }
-    }
-    // Back to row-major, into `out` where asked.
-    for ty in (0..qh).step_by(TILE) {
-        for tx in (0..qw).step_by(TILE) {
-            for qy in ty..(ty + TILE).min(qh) {
-                let base = (within.y0 + qy) * width + within.x0;
-                for qx in tx..(tx + TILE).min(qw) {
-                    if query(base + qx) {
-                        out[base + qx] = result[qx * qh + qy];
-                    }
-                }
+            let p = (within.y0 + qy) * width + x as usize;
+            if query(p) {
+                let site = sites[k].0 as usize;
+                out[p] = ((rect.y0 + site) * width) as u32 + column[site];
             }
         }
     }
