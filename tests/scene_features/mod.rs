@@ -18,6 +18,7 @@ mod assets;
 mod blender;
 mod camera_lists;
 mod environment;
+mod geometry_extensions;
 mod harness;
 mod lights;
 mod materials;

@@ -103,7 +103,7 @@ pub(super) fn read(
             let times = accessor::read_times(&input, buffers).map_err(fail)?;
             let values = match property {
                 Property::Rotation => accessor::read_rotations(&output, buffers),
-                _ => accessor::read_vec3(&output, buffers, &format!("{property} output"))
+                _ => accessor::read_vec3(&output, buffers, &format!("{property} output"), accessor::FLOAT)
                     .map(|v| v.into_iter().map(|v| v.extend(0.0)).collect()),
             }
             .map_err(fail)?;

@@ -27,7 +27,9 @@
 mod accessor;
 mod buffers;
 mod channels;
+mod instancing;
 mod material;
+mod meshopt;
 mod precheck;
 #[cfg(test)]
 pub(super) mod tests;
@@ -51,6 +53,11 @@ const HANDLED_EXTENSIONS: &[&str] = &[
     "KHR_materials_transmission",
     "KHR_materials_ior",
     "KHR_texture_transform",
+    "KHR_mesh_quantization",
+    "EXT_meshopt_compression",
+    "KHR_meshopt_compression",
+    "EXT_texture_webp",
+    "EXT_mesh_gpu_instancing",
 ];
 
 /// Loads a `.gltf` or `.glb` file (told apart by the GLB magic, not the name).
@@ -75,8 +82,11 @@ pub(super) fn load_with(path: &Path, keep_rig: bool) -> Result<Scene> {
     let mut root: gltf::json::Root = gltf::json::deserialize::from_slice(&json[..end])
         .map_err(|e| err(format!("malformed glTF JSON: {e}")))?;
     // The same JSON untyped, for what the gltf crate drops (a normalTexture's extensions).
-    let raw: serde_json::Value =
+    let mut raw: serde_json::Value =
         serde_json::from_slice(&json[..end]).map_err(|e| err(format!("malformed glTF JSON: {e}")))?;
+    if textures::use_webp_sources(&mut raw) {
+        root = serde_json::from_value(raw.clone()).map_err(|e| err(format!("malformed glTF JSON: {e}")))?;
+    }
     if !root.asset.version.starts_with("2.") {
         return Err(err(format!("glTF version {} is not supported (only 2.x)", root.asset.version)));
     }
@@ -89,12 +99,25 @@ pub(super) fn load_with(path: &Path, keep_rig: bool) -> Result<Scene> {
     channels::check_indices(&root).map_err(err)?;
     precheck::check(&root).map_err(err)?;
     let unbounded = fill_position_bounds(&mut root);
+    let base = path.parent().unwrap_or(Path::new("."));
+    // Compressed views are decoded into buffers of their own before the document is built, so
+    // that everything after reads them as plain views.
+    let compressed = meshopt::Views::read(&raw).map_err(err)?;
+    let decoded = if compressed.is_empty() {
+        None
+    } else {
+        let mut buffers = buffers::load(&root.buffers, base, bin, &compressed.fallback).map_err(err)?;
+        compressed.decode(&mut root, &mut buffers).map_err(err)?;
+        Some(buffers)
+    };
     let doc = gltf::Document::from_json(root).map_err(|e| match e {
         gltf::Error::Validation(errors) => err(precheck::describe_validation(&errors)),
         other => err(other.to_string()),
     })?;
-    let base = path.parent().unwrap_or(Path::new("."));
-    let buffers = buffers::load(&doc, base, bin).map_err(err)?;
+    let buffers = match decoded {
+        Some(buffers) => buffers,
+        None => buffers::load(&doc.as_json().buffers, base, bin, &[]).map_err(err)?,
+    };
 
     let mut scene = Scene { path: path.to_owned(), ..Scene::default() };
     if unbounded > 0 {
@@ -126,6 +149,8 @@ pub(super) fn load_with(path: &Path, keep_rig: bool) -> Result<Scene> {
         mesh_primitives: vec![None; doc.meshes().len()],
         rig_node_of: vec![None; doc.nodes().len()],
         cameras: 0,
+        quantized: doc.extensions_used().any(|e| e == "KHR_mesh_quantization"),
+        raw_nodes: raw.get("nodes").and_then(serde_json::Value::as_array),
     };
     loader.traverse(&doc)?;
     let Loader { mut scene, rig, rig_node_of, .. } = loader;
@@ -165,6 +190,10 @@ struct Loader<'a> {
     rig_node_of: Vec<Option<usize>>,
     /// Cameras met so far (names unnamed ones).
     cameras: usize,
+    /// The file declares `KHR_mesh_quantization`: vertex attributes may be integers.
+    quantized: bool,
+    /// The nodes' untyped JSON, for extensions the gltf crate does not parse (instancing).
+    raw_nodes: Option<&'a Vec<serde_json::Value>>,
 }
 
 impl Loader<'_> {
@@ -221,7 +250,36 @@ impl Loader<'_> {
                 None => None,
             };
             let rest = rest_pose(&node);
-            self.rig.nodes.push(RigNode { label, parent, rest, primitives, camera, light });
+            let raw_node = self.raw_nodes.and_then(|n| n.get(node.index()));
+            let instances = match raw_node {
+                Some(raw) => instancing::instances(raw, doc, self.buffers, self.quantized)
+                    .map_err(|m| self.error(format!("{label}: {m}")))?,
+                None => None,
+            };
+            match instances {
+                // The node carries the mesh's instances as leaves; itself it draws nothing.
+                Some(poses) => {
+                    self.rig.nodes.push(RigNode {
+                        label: label.clone(),
+                        parent,
+                        rest,
+                        primitives: 0..0,
+                        camera,
+                        light,
+                    });
+                    for (i, pose) in poses.into_iter().enumerate() {
+                        self.rig.nodes.push(RigNode {
+                            label: format!("{label} instance {i}"),
+                            parent: Some(index),
+                            rest: pose,
+                            primitives: primitives.clone(),
+                            camera: None,
+                            light: None,
+                        });
+                    }
+                }
+                None => self.rig.nodes.push(RigNode { label, parent, rest, primitives, camera, light }),
+            }
             let children: Vec<_> = node.children().collect();
             stack.extend(children.into_iter().rev().map(|c| (c, Some(index))));
         }
@@ -251,21 +309,25 @@ impl Loader<'_> {
             if prim.morph_targets().next().is_some() {
                 self.warn(format!("{what}: morph targets are not supported; drawn without them"));
             }
-            let positions = accessor::read_vec3(&pos_accessor, self.buffers, "POSITION").map_err(fail)?;
+            let q = self.quantized;
+            let (position_types, unit_types) =
+                if q { (accessor::QUANTIZED, accessor::UNIT) } else { (accessor::FLOAT, accessor::FLOAT) };
+            let positions =
+                accessor::read_vec3(&pos_accessor, self.buffers, "POSITION", position_types).map_err(fail)?;
             let normals = match prim.get(&Semantic::Normals) {
-                Some(a) => Some(accessor::read_vec3(&a, self.buffers, "NORMAL").map_err(fail)?),
+                Some(a) => Some(accessor::read_vec3(&a, self.buffers, "NORMAL", unit_types).map_err(fail)?),
                 None => None,
             };
             let uvs = match prim.get(&Semantic::TexCoords(0)) {
-                Some(a) => Some(accessor::read_uv(&a, self.buffers, "TEXCOORD_0").map_err(fail)?),
+                Some(a) => Some(accessor::read_uv(&a, self.buffers, "TEXCOORD_0", q).map_err(fail)?),
                 None => None,
             };
             let uvs1 = match prim.get(&Semantic::TexCoords(1)) {
-                Some(a) => Some(accessor::read_uv(&a, self.buffers, "TEXCOORD_1").map_err(fail)?),
+                Some(a) => Some(accessor::read_uv(&a, self.buffers, "TEXCOORD_1", q).map_err(fail)?),
                 None => None,
             };
             let tangents = match prim.get(&Semantic::Tangents) {
-                Some(a) => Some(accessor::read_vec4(&a, self.buffers, "TANGENT").map_err(fail)?),
+                Some(a) => Some(accessor::read_vec4(&a, self.buffers, "TANGENT", unit_types).map_err(fail)?),
                 None => None,
             };
             let mut indices = match prim.indices() {
