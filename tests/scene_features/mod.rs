@@ -22,4 +22,5 @@ mod geometry_extensions;
 mod harness;
 mod lights;
 mod materials;
+mod skinning;
 mod textures;

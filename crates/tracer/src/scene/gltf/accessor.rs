@@ -75,6 +75,33 @@ pub(super) fn read_uv(
     Ok(values.chunks_exact(2).map(|c| Vec2::new(c[0] as f32, c[1] as f32)).collect())
 }
 
+/// Reads a `JOINTS_n` accessor: `VEC4` of unsigned bytes or shorts (not normalised).
+pub(super) fn read_joints(
+    acc: &Accessor,
+    buffers: &[Vec<u8>],
+    semantic: &str,
+) -> Result<Vec<[u16; 4]>, String> {
+    expect(acc, semantic, Dimensions::Vec4, &[(DataType::U8, false), (DataType::U16, false)])?;
+    let values = read(acc, buffers)?;
+    // Bytes and shorts hold their values exactly in f64 and fit u16.
+    Ok(values.chunks_exact(4).map(|c| [c[0] as u16, c[1] as u16, c[2] as u16, c[3] as u16]).collect())
+}
+
+/// Reads a `WEIGHTS_n` accessor: `VEC4` of floats or normalised unsigned bytes or shorts.
+pub(super) fn read_weights(acc: &Accessor, buffers: &[Vec<u8>], semantic: &str) -> Result<Vec<Vec4>, String> {
+    read_vec4(acc, buffers, semantic, CORE_UV)
+}
+
+/// Reads a skin's `inverseBindMatrices`: `MAT4` of floats, column-major.
+pub(super) fn read_mat4(acc: &Accessor, buffers: &[Vec<u8>]) -> Result<Vec<glam::Mat4>, String> {
+    expect(acc, "inverseBindMatrices", Dimensions::Mat4, FLOAT)?;
+    let values = read(acc, buffers)?;
+    Ok(values
+        .chunks_exact(16)
+        .map(|c| glam::Mat4::from_cols_array(&std::array::from_fn(|i| c[i] as f32)))
+        .collect())
+}
+
 /// Reads an index accessor: `SCALAR` unsigned bytes, shorts or ints.
 pub(super) fn read_indices(acc: &Accessor, buffers: &[Vec<u8>]) -> Result<Vec<u32>, String> {
     let allowed = [(DataType::U8, false), (DataType::U16, false), (DataType::U32, false)];

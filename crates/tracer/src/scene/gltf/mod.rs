@@ -35,7 +35,7 @@ mod precheck;
 pub(super) mod tests;
 mod textures;
 
-use super::rig::{LightKind, Pose, Primitive, Rig, RigCamera, RigLight, RigNode};
+use super::rig::{Influences, LightKind, Pose, Primitive, Rig, RigCamera, RigLight, RigNode, Skin};
 use super::{Scene, SceneAnimation, SpotFalloff};
 use crate::camera::Projection;
 use crate::error::{Result, TracerError};
@@ -153,6 +153,7 @@ pub(super) fn load_with(path: &Path, keep_rig: bool) -> Result<Scene> {
         raw_nodes: raw.get("nodes").and_then(serde_json::Value::as_array),
     };
     loader.traverse(&doc)?;
+    loader.skins(&doc)?;
     let Loader { mut scene, rig, rig_node_of, .. } = loader;
     let (channels, warnings) = channels::read(&doc, &buffers, &rig, &rig_node_of).map_err(err)?;
     scene.warnings.extend(warnings.into_iter().map(|w| format!("{}: {w}", path.display())));
@@ -238,9 +239,8 @@ impl Loader<'_> {
                 Some(mesh) => self.mesh(&mesh)?,
                 None => 0..0,
             };
-            if node.skin().is_some() {
-                self.warn(format!("{label}: skinning is not supported; the mesh is drawn in its bind pose"));
-            }
+            // Resolved into the rig's skins once every joint has its rig node (`skins`).
+            let skin = node.skin().map(|s| s.index());
             let camera = match node.camera() {
                 Some(camera) => Some(self.camera(doc, &node, &camera)?),
                 None => None,
@@ -266,6 +266,7 @@ impl Loader<'_> {
                         primitives: 0..0,
                         camera,
                         light,
+                        skin: None,
                     });
                     for (i, pose) in poses.into_iter().enumerate() {
                         self.rig.nodes.push(RigNode {
@@ -275,10 +276,11 @@ impl Loader<'_> {
                             primitives: primitives.clone(),
                             camera: None,
                             light: None,
+                            skin,
                         });
                     }
                 }
-                None => self.rig.nodes.push(RigNode { label, parent, rest, primitives, camera, light }),
+                None => self.rig.nodes.push(RigNode { label, parent, rest, primitives, camera, light, skin }),
             }
             let children: Vec<_> = node.children().collect();
             stack.extend(children.into_iter().rev().map(|c| (c, Some(index))));
@@ -330,6 +332,7 @@ impl Loader<'_> {
                 Some(a) => Some(accessor::read_vec4(&a, self.buffers, "TANGENT", unit_types).map_err(fail)?),
                 None => None,
             };
+            let influences = self.influences(&prim, positions.len()).map_err(fail)?;
             let mut indices = match prim.indices() {
                 Some(a) => accessor::read_indices(&a, self.buffers).map_err(fail)?,
                 None => {
@@ -358,6 +361,7 @@ impl Loader<'_> {
                 tangents,
                 indices,
                 material,
+                influences,
             });
         }
         let range = start..self.rig.primitives.len();
@@ -365,6 +369,73 @@ impl Loader<'_> {
             *slot = Some(range.clone());
         }
         Ok(range)
+    }
+
+    /// A primitive's `JOINTS_n` / `WEIGHTS_n` sets, in order until the first missing pair.
+    fn influences(&self, prim: &gltf::Primitive, vertices: usize) -> Result<Option<Influences>, String> {
+        let mut sets = Vec::new();
+        for k in 0.. {
+            let (joints, weights) = (prim.get(&Semantic::Joints(k)), prim.get(&Semantic::Weights(k)));
+            let (Some(j), Some(w)) = (joints, weights) else {
+                if prim.get(&Semantic::Joints(k)).is_some() != prim.get(&Semantic::Weights(k)).is_some() {
+                    return Err(format!("JOINTS_{k} and WEIGHTS_{k} must come together"));
+                }
+                break;
+            };
+            sets.push((
+                accessor::read_joints(&j, self.buffers, &format!("JOINTS_{k}"))?,
+                accessor::read_weights(&w, self.buffers, &format!("WEIGHTS_{k}"))?,
+            ));
+        }
+        if sets.is_empty() {
+            return Ok(None);
+        }
+        Influences::new(sets, vertices).map(Some)
+    }
+
+    /// The file's skins as rig skins, and each skinned node pointed at its own; a joint outside
+    /// the rendered hierarchy is an error naming the skin.
+    fn skins(&mut self, doc: &gltf::Document) -> Result<()> {
+        let mut rig_skin_of = vec![None; doc.skins().len()];
+        for node in 0..self.rig.nodes.len() {
+            let Some(s) = self.rig.nodes[node].skin else { continue };
+            if let Some(Some(done)) = rig_skin_of.get(s) {
+                self.rig.nodes[node].skin = Some(*done);
+                continue;
+            }
+            let skin = doc.skins().nth(s).ok_or_else(|| self.error(format!("skin {s} does not exist")))?;
+            let label = format!("skin {s} ('{}')", skin.name().unwrap_or(""));
+            let mut joints = Vec::new();
+            for j in skin.joints() {
+                let rig = self.rig_node_of.get(j.index()).copied().flatten().ok_or_else(|| {
+                    self.error(format!(
+                        "{label}: joint {} is not in the rendered scene's hierarchy",
+                        node_label(&j)
+                    ))
+                })?;
+                joints.push(rig);
+            }
+            let inverse_bind = match skin.inverse_bind_matrices() {
+                Some(a) => {
+                    let m = accessor::read_mat4(&a, self.buffers)
+                        .map_err(|m| self.error(format!("{label}: {m}")))?;
+                    if m.len() < joints.len() {
+                        return Err(self.error(format!(
+                            "{label}: {} inverse bind matrices for {} joints",
+                            m.len(),
+                            joints.len()
+                        )));
+                    }
+                    m.iter().map(|m| Affine3A::from_mat4(*m)).collect()
+                }
+                None => vec![Affine3A::IDENTITY; joints.len()],
+            };
+            self.rig.skins.push(Skin { label, joints, inverse_bind });
+            let index = self.rig.skins.len() - 1;
+            rig_skin_of[s] = Some(index);
+            self.rig.nodes[node].skin = Some(index);
+        }
+        Ok(())
     }
 
     /// Warns when `material`'s textures read a coordinate set the primitive lacks (the tracer

@@ -15,8 +15,10 @@
 //! per animated object, all meant to run at once.
 
 mod channel;
+mod skin;
 
 pub(in crate::scene) use channel::{Channel, Interpolation, Property};
+pub(in crate::scene) use skin::{Influences, Skin};
 
 use super::{Mesh, MeshExtras, MeshPart, PunctualLight, SpotFalloff};
 use crate::camera::{CameraDesc, Projection};
@@ -66,6 +68,8 @@ pub(in crate::scene) struct RigNode {
     pub camera: Option<RigCamera>,
     /// The light the node carries.
     pub light: Option<RigLight>,
+    /// The skin (index into [`Rig::skins`]) that deforms the node's primitives.
+    pub skin: Option<usize>,
 }
 
 /// A triangle primitive in its node's local space, indices already a counter-clockwise list.
@@ -87,6 +91,8 @@ pub(in crate::scene) struct Primitive {
     pub indices: Vec<u32>,
     /// Material of every triangle.
     pub material: u32,
+    /// Joints and weights of every vertex, where the primitive can be skinned.
+    pub influences: Option<Influences>,
 }
 
 /// A camera on a node: it looks down the node's −Z with +Y up.
@@ -126,6 +132,8 @@ pub(in crate::scene) struct Rig {
     pub nodes: Vec<RigNode>,
     /// Mesh primitives; a mesh several nodes instance is stored once.
     pub primitives: Vec<Primitive>,
+    /// Skins the nodes refer to.
+    pub skins: Vec<Skin>,
 }
 
 /// What [`Rig::flatten`] produces: the scene's world-space part.
@@ -171,8 +179,8 @@ impl Rig {
         flat.mesh.positions.reserve(vertices);
         flat.mesh.triangles.reserve(triangles);
         flat.mesh.material_ids.reserve(triangles);
+        // Every world transform first: a skinned mesh needs its joints', wherever they are.
         let mut worlds: Vec<Affine3A> = Vec::with_capacity(self.nodes.len());
-        let mut scratch = Scratch::default();
         for (node, local) in self.nodes.iter().zip(locals) {
             let world = match node.parent {
                 None => *local,
@@ -186,27 +194,56 @@ impl Rig {
                 return Err(format!("{} has a non-finite transform", node.label));
             }
             worlds.push(world);
+        }
+        let mut scratch = Scratch::default();
+        let mut joint_buf: Vec<Affine3A> = Vec::new();
+        for (node, world) in self.nodes.iter().zip(&worlds) {
             if !node.primitives.is_empty() {
-                let frame = Frame::new(&world);
+                let frame = Frame::new(world);
+                let joints = match node.skin {
+                    Some(s) => Some(self.joint_matrices(s, &worlds, &mut joint_buf)?),
+                    None => None,
+                };
                 for prim in primitives(node)? {
-                    frame
-                        .push(prim, &mut flat.mesh, &mut scratch)
-                        .map_err(|m| format!("{}: {m}", prim.label))?;
+                    let pushed = match (joints, &prim.influences) {
+                        (Some(matrices), Some(influences)) => {
+                            frame.push_skinned(prim, influences, matrices, &mut flat.mesh, &mut scratch)
+                        }
+                        _ => frame.push(prim, &mut flat.mesh, &mut scratch),
+                    };
+                    pushed.map_err(|m| format!("{}: {m}", prim.label))?;
                 }
             }
             if let Some(camera) = &node.camera {
                 let projection = camera.projection;
                 flat.cameras.push(CameraDesc {
                     name: camera.name.clone(),
-                    world_from_camera: world,
+                    world_from_camera: *world,
                     projection,
                 });
             }
             if let Some(light) = &node.light {
-                flat.lights.push(light.place(&world)?);
+                flat.lights.push(light.place(world)?);
             }
         }
         Ok(flat)
+    }
+
+    /// Skin `s`'s joint matrices (joint world × inverse bind) into `out`.
+    fn joint_matrices<'o>(
+        &self,
+        s: usize,
+        worlds: &[Affine3A],
+        out: &'o mut Vec<Affine3A>,
+    ) -> Result<&'o [Affine3A], String> {
+        let skin = self.skins.get(s).ok_or_else(|| format!("skin {s} of {}", self.skins.len()))?;
+        out.clear();
+        for (&j, ibm) in skin.joints.iter().zip(&skin.inverse_bind) {
+            let world =
+                worlds.get(j).ok_or_else(|| format!("{}: joint node {j} of {}", skin.label, worlds.len()))?;
+            out.push(*world * *ibm);
+        }
+        Ok(out)
     }
 
     /// How many cameras the nodes carry.
@@ -235,6 +272,63 @@ impl<'a> Frame<'a> {
             Mat3::from_cols(m.y_axis.cross(m.z_axis), m.z_axis.cross(m.x_axis), m.x_axis.cross(m.y_axis))
                 * det.signum();
         Self { world, linear: m, cofactor, mirrored: det < 0.0 }
+    }
+
+    /// Appends skinned `prim` to `mesh`: each vertex moved by its joints' blended matrix; the
+    /// node's own transform applies only to a vertex without weight.
+    fn push_skinned(
+        &self,
+        prim: &Primitive,
+        influences: &Influences,
+        joints: &[Affine3A],
+        mesh: &mut Mesh,
+        s: &mut Scratch,
+    ) -> Result<(), String> {
+        if usize::from(influences.max_joint()) >= joints.len() {
+            return Err(format!(
+                "a vertex uses joint {} but its skin has {}",
+                influences.max_joint(),
+                joints.len()
+            ));
+        }
+        let n = prim.positions.len();
+        for (what, len) in [
+            ("NORMAL", prim.normals.as_ref().map(Vec::len)),
+            ("TANGENT", prim.tangents.as_ref().map(Vec::len)),
+        ] {
+            if let Some(len) = len.filter(|&l| l != n) {
+                return Err(format!("{what} has {len} entries for {n} positions"));
+            }
+        }
+        s.positions.clear();
+        s.normals.clear();
+        s.tangents.clear();
+        for (v, &p) in prim.positions.iter().enumerate() {
+            let m = influences.matrix(v, joints, self.world);
+            s.positions.push(m.transform_point3(p));
+            let linear = Mat3::from(m.matrix3);
+            if let Some(ns) = &prim.normals {
+                s.normals.push((skin::normal_matrix(linear) * ns[v]).normalize_or_zero());
+            }
+            if let Some(ts) = &prim.tangents {
+                let t = ts[v];
+                let xyz = (linear * t.truncate()).normalize_or_zero();
+                let w = if (t.w < 0.0) == (linear.determinant() < 0.0) { 1.0 } else { -1.0 };
+                s.tangents.push(if xyz == Vec3::ZERO { Vec4::ZERO } else { xyz.extend(w) });
+            }
+        }
+        let part = MeshPart {
+            positions: &s.positions,
+            normals: prim.normals.as_ref().map(|_| &s.normals[..]),
+            uvs: prim.uvs.as_deref(),
+            indices: Some(&prim.indices),
+            material: prim.material,
+        };
+        let extras = MeshExtras {
+            uvs1: prim.uvs1.as_deref(),
+            tangents: prim.tangents.as_ref().map(|_| &s.tangents[..]),
+        };
+        mesh.push_with(part, extras)
     }
 
     /// Appends `prim` transformed into world space to `mesh`.
