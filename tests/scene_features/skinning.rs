@@ -1,4 +1,4 @@
-//! Skinned meshes posed where Blender poses them: the Khronos skinned sample models, loaded and
+//! Skinned and morphing meshes posed where Blender poses them: the Khronos sample models, loaded and
 //! posed at a scene time, against the vertices of Blender's evaluated mesh at the same frame
 //! (`benches/peers/cycles/posed.py`, Blender 5.0.1's importer; tests/data/posed/README.md).
 
@@ -80,4 +80,31 @@ fn cesium_man_is_posed_as_blender_poses_it() {
 #[test]
 fn simple_skin_is_posed_as_blender_poses_it() {
     check("SimpleSkin", "simple_skin", &[1000, 2500, 4250], 1e-5);
+}
+
+#[test]
+fn animated_morph_cube_is_morphed_as_blender_morphs_it() {
+    check("AnimatedMorphCube", "animated_morph_cube", &[500, 1250, 2000], 1e-5);
+}
+
+#[test]
+fn simple_morph_is_morphed_as_blender_morphs_it() {
+    check("SimpleMorph", "simple_morph", &[500, 1500, 2500], 1e-5);
+}
+
+#[test]
+fn animated_morph_sphere_is_morphed_as_blender_morphs_it() {
+    check("AnimatedMorphSphere", "animated_morph_sphere", &[1000, 3000, 5500], 1e-5);
+}
+
+#[test]
+fn morph_primitives_test_takes_its_mesh_weights() {
+    // Static: the mesh's default weight 0.5 displaces both primitives at load.
+    let Some(path) = sample("MorphPrimitivesTest") else { return };
+    let scene = super::harness::load(&path);
+    let theirs = blender("morph_primitives-t0.f32");
+    let ours = &scene.mesh.positions;
+    let (lo, hi) = scene.bounds().unwrap();
+    let d = one_sided(ours, &theirs).max(one_sided(&theirs, ours));
+    assert!(d <= 1e-5 * (hi - lo).max_element(), "{d} from Blender's mesh");
 }

@@ -116,6 +116,19 @@ pub(super) fn read_times(acc: &Accessor, buffers: &[Vec<u8>]) -> Result<Vec<f32>
     Ok(read(acc, buffers)?.into_iter().map(|v| v as f32).collect())
 }
 
+/// Reads an animation sampler's `weights` output: `SCALAR` floats or normalised integers.
+pub(super) fn read_scalars(acc: &Accessor, buffers: &[Vec<u8>], what: &str) -> Result<Vec<f32>, String> {
+    let allowed = [
+        (DataType::F32, false),
+        (DataType::I8, true),
+        (DataType::U8, true),
+        (DataType::I16, true),
+        (DataType::U16, true),
+    ];
+    expect(acc, what, Dimensions::Scalar, &allowed)?;
+    Ok(read(acc, buffers)?.into_iter().map(|v| v as f32).collect())
+}
+
 /// Reads an animation sampler's rotation output: `VEC4` quaternions (xyzw) of floats or
 /// normalised bytes or shorts (glTF §3.11).
 pub(super) fn read_rotations(acc: &Accessor, buffers: &[Vec<u8>]) -> Result<Vec<Vec4>, String> {

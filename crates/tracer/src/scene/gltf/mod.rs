@@ -35,7 +35,9 @@ mod precheck;
 pub(super) mod tests;
 mod textures;
 
-use super::rig::{Influences, LightKind, Pose, Primitive, Rig, RigCamera, RigLight, RigNode, Skin};
+use super::rig::{
+    Influences, LightKind, MorphTarget, Pose, Primitive, Rig, RigCamera, RigLight, RigNode, Skin,
+};
 use super::{Scene, SceneAnimation, SpotFalloff};
 use crate::camera::Projection;
 use crate::error::{Result, TracerError};
@@ -239,6 +241,12 @@ impl Loader<'_> {
                 Some(mesh) => self.mesh(&mesh)?,
                 None => 0..0,
             };
+            // Morph weights: the node's, else its mesh's, else zero, one per target.
+            let targets =
+                self.rig.primitives[primitives.clone()].iter().map(|p| p.targets.len()).max().unwrap_or(0);
+            let mesh_weights = node.mesh().and_then(|m| m.weights().map(<[f32]>::to_vec));
+            let mut weights = node.weights().map(<[f32]>::to_vec).or(mesh_weights).unwrap_or_default();
+            weights.resize(targets, 0.0);
             // Resolved into the rig's skins once every joint has its rig node (`skins`).
             let skin = node.skin().map(|s| s.index());
             let camera = match node.camera() {
@@ -267,6 +275,7 @@ impl Loader<'_> {
                         camera,
                         light,
                         skin: None,
+                        weights: Vec::new(),
                     });
                     for (i, pose) in poses.into_iter().enumerate() {
                         self.rig.nodes.push(RigNode {
@@ -277,10 +286,20 @@ impl Loader<'_> {
                             camera: None,
                             light: None,
                             skin,
+                            weights: weights.clone(),
                         });
                     }
                 }
-                None => self.rig.nodes.push(RigNode { label, parent, rest, primitives, camera, light, skin }),
+                None => self.rig.nodes.push(RigNode {
+                    label,
+                    parent,
+                    rest,
+                    primitives,
+                    camera,
+                    light,
+                    skin,
+                    weights,
+                }),
             }
             let children: Vec<_> = node.children().collect();
             stack.extend(children.into_iter().rev().map(|c| (c, Some(index))));
@@ -308,9 +327,6 @@ impl Loader<'_> {
                 self.warn(format!("{what}: no POSITION attribute; skipped"));
                 continue;
             };
-            if prim.morph_targets().next().is_some() {
-                self.warn(format!("{what}: morph targets are not supported; drawn without them"));
-            }
             let q = self.quantized;
             let (position_types, unit_types) =
                 if q { (accessor::QUANTIZED, accessor::UNIT) } else { (accessor::FLOAT, accessor::FLOAT) };
@@ -333,6 +349,7 @@ impl Loader<'_> {
                 None => None,
             };
             let influences = self.influences(&prim, positions.len()).map_err(fail)?;
+            let targets = self.targets(&prim).map_err(fail)?;
             let mut indices = match prim.indices() {
                 Some(a) => accessor::read_indices(&a, self.buffers).map_err(fail)?,
                 None => {
@@ -362,6 +379,7 @@ impl Loader<'_> {
                 indices,
                 material,
                 influences,
+                targets,
             });
         }
         let range = start..self.rig.primitives.len();
@@ -369,6 +387,26 @@ impl Loader<'_> {
             *slot = Some(range.clone());
         }
         Ok(range)
+    }
+
+    /// A primitive's morph targets: `POSITION`, `NORMAL` and `TANGENT` deltas (floats, or
+    /// normalised integers with `KHR_mesh_quantization`).
+    fn targets(&self, prim: &gltf::Primitive) -> Result<Vec<MorphTarget>, String> {
+        let types = if self.quantized { accessor::QUANTIZED } else { accessor::FLOAT };
+        let read = |a: Option<gltf::Accessor>, what: String| match a {
+            Some(a) => accessor::read_vec3(&a, self.buffers, &what, types).map(Some),
+            None => Ok(None),
+        };
+        prim.morph_targets()
+            .enumerate()
+            .map(|(i, t)| {
+                Ok(MorphTarget {
+                    positions: read(t.positions(), format!("target {i} POSITION"))?,
+                    normals: read(t.normals(), format!("target {i} NORMAL"))?,
+                    tangents: read(t.tangents(), format!("target {i} TANGENT"))?,
+                })
+            })
+            .collect()
     }
 
     /// A primitive's `JOINTS_n` / `WEIGHTS_n` sets, in order until the first missing pair.

@@ -15,10 +15,14 @@
 //! per animated object, all meant to run at once.
 
 mod channel;
+mod morph;
 mod skin;
 
 pub(in crate::scene) use channel::{Channel, Interpolation, Property};
+pub(in crate::scene) use morph::MorphTarget;
 pub(in crate::scene) use skin::{Influences, Skin};
+
+use morph::Morphed;
 
 use super::{Mesh, MeshExtras, MeshPart, PunctualLight, SpotFalloff};
 use crate::camera::{CameraDesc, Projection};
@@ -70,6 +74,8 @@ pub(in crate::scene) struct RigNode {
     pub light: Option<RigLight>,
     /// The skin (index into [`Rig::skins`]) that deforms the node's primitives.
     pub skin: Option<usize>,
+    /// Morph-target weights when no animation sets them (the node's, else its mesh's).
+    pub weights: Vec<f32>,
 }
 
 /// A triangle primitive in its node's local space, indices already a counter-clockwise list.
@@ -93,6 +99,16 @@ pub(in crate::scene) struct Primitive {
     pub material: u32,
     /// Joints and weights of every vertex, where the primitive can be skinned.
     pub influences: Option<Influences>,
+    /// Morph targets.
+    pub targets: Vec<MorphTarget>,
+}
+
+/// The vertex attributes a frame transforms: the primitive's own, or morphed ones.
+#[derive(Clone, Copy)]
+struct Attributes<'a> {
+    positions: &'a [Vec3],
+    normals: Option<&'a [Vec3]>,
+    tangents: Option<&'a [Vec4]>,
 }
 
 /// A camera on a node: it looks down the node's −Z with +Y up.
@@ -158,8 +174,13 @@ struct Scratch {
 
 impl Rig {
     /// Flattens the hierarchy with each node's transform relative to its parent taken from
-    /// `locals` (one per node); the message names the node, primitive or light at fault.
-    pub(in crate::scene) fn flatten(&self, locals: &[Affine3A]) -> Result<Flat, String> {
+    /// `locals` (one per node) and its morph weights from `weights` where that has them (else
+    /// the node's own); the message names the node, primitive or light at fault.
+    pub(in crate::scene) fn flatten(
+        &self,
+        locals: &[Affine3A],
+        weights: &[Option<Vec<f32>>],
+    ) -> Result<Flat, String> {
         if locals.len() != self.nodes.len() {
             return Err(format!("{} node transforms for {} nodes", locals.len(), self.nodes.len()));
         }
@@ -197,7 +218,9 @@ impl Rig {
         }
         let mut scratch = Scratch::default();
         let mut joint_buf: Vec<Affine3A> = Vec::new();
-        for (node, world) in self.nodes.iter().zip(&worlds) {
+        let mut morphed = Morphed::default();
+        for (i, (node, world)) in self.nodes.iter().zip(&worlds).enumerate() {
+            let node_weights = weights.get(i).and_then(Option::as_deref).unwrap_or(&node.weights);
             if !node.primitives.is_empty() {
                 let frame = Frame::new(world);
                 let joints = match node.skin {
@@ -205,11 +228,41 @@ impl Rig {
                     None => None,
                 };
                 for prim in primitives(node)? {
-                    let pushed = match (joints, &prim.influences) {
-                        (Some(matrices), Some(influences)) => {
-                            frame.push_skinned(prim, influences, matrices, &mut flat.mesh, &mut scratch)
+                    let mut attrs = Attributes {
+                        positions: &prim.positions,
+                        normals: prim.normals.as_deref(),
+                        tangents: prim.tangents.as_deref(),
+                    };
+                    if !prim.targets.is_empty() {
+                        let [p, n, t] = morphed
+                            .apply(
+                                &prim.targets,
+                                node_weights,
+                                attrs.positions,
+                                attrs.normals,
+                                attrs.tangents,
+                            )
+                            .map_err(|m| format!("{}: {m}", prim.label))?;
+                        if p {
+                            attrs.positions = &morphed.positions;
                         }
-                        _ => frame.push(prim, &mut flat.mesh, &mut scratch),
+                        if n {
+                            attrs.normals = Some(&morphed.normals);
+                        }
+                        if t {
+                            attrs.tangents = Some(&morphed.tangents);
+                        }
+                    }
+                    let pushed = match (joints, &prim.influences) {
+                        (Some(matrices), Some(influences)) => frame.push_skinned(
+                            prim,
+                            attrs,
+                            influences,
+                            matrices,
+                            &mut flat.mesh,
+                            &mut scratch,
+                        ),
+                        _ => frame.push(prim, attrs, &mut flat.mesh, &mut scratch),
                     };
                     pushed.map_err(|m| format!("{}: {m}", prim.label))?;
                 }
@@ -279,6 +332,7 @@ impl<'a> Frame<'a> {
     fn push_skinned(
         &self,
         prim: &Primitive,
+        attrs: Attributes<'_>,
         influences: &Influences,
         joints: &[Affine3A],
         mesh: &mut Mesh,
@@ -303,14 +357,14 @@ impl<'a> Frame<'a> {
         s.positions.clear();
         s.normals.clear();
         s.tangents.clear();
-        for (v, &p) in prim.positions.iter().enumerate() {
+        for (v, &p) in attrs.positions.iter().enumerate() {
             let m = influences.matrix(v, joints, self.world);
             s.positions.push(m.transform_point3(p));
             let linear = Mat3::from(m.matrix3);
-            if let Some(ns) = &prim.normals {
+            if let Some(ns) = attrs.normals {
                 s.normals.push((skin::normal_matrix(linear) * ns[v]).normalize_or_zero());
             }
-            if let Some(ts) = &prim.tangents {
+            if let Some(ts) = attrs.tangents {
                 let t = ts[v];
                 let xyz = (linear * t.truncate()).normalize_or_zero();
                 let w = if (t.w < 0.0) == (linear.determinant() < 0.0) { 1.0 } else { -1.0 };
@@ -319,7 +373,7 @@ impl<'a> Frame<'a> {
         }
         let part = MeshPart {
             positions: &s.positions,
-            normals: prim.normals.as_ref().map(|_| &s.normals[..]),
+            normals: attrs.normals.map(|_| &s.normals[..]),
             uvs: prim.uvs.as_deref(),
             indices: Some(&prim.indices),
             material: prim.material,
@@ -332,10 +386,16 @@ impl<'a> Frame<'a> {
     }
 
     /// Appends `prim` transformed into world space to `mesh`.
-    fn push(&self, prim: &Primitive, mesh: &mut Mesh, s: &mut Scratch) -> Result<(), String> {
+    fn push(
+        &self,
+        prim: &Primitive,
+        attrs: Attributes<'_>,
+        mesh: &mut Mesh,
+        s: &mut Scratch,
+    ) -> Result<(), String> {
         s.positions.clear();
-        s.positions.extend(prim.positions.iter().map(|&p| self.world.transform_point3(p)));
-        let normals = prim.normals.as_ref().map(|ns| {
+        s.positions.extend(attrs.positions.iter().map(|&p| self.world.transform_point3(p)));
+        let normals = attrs.normals.map(|ns| {
             s.normals.clear();
             s.normals.extend(ns.iter().map(|&n| (self.cofactor * n).normalize_or_zero()));
             &s.normals[..]
@@ -343,7 +403,7 @@ impl<'a> Frame<'a> {
         // Tangents are directions on the surface: they transform like positions' differences.
         // A mirroring transform flips the handedness of the tangent frame, so w flips too.
         let handedness = if self.mirrored { -1.0 } else { 1.0 };
-        let tangents = prim.tangents.as_ref().map(|ts| {
+        let tangents = attrs.tangents.map(|ts| {
             s.tangents.clear();
             s.tangents.extend(ts.iter().map(|t| {
                 let xyz = (self.linear * t.truncate()).normalize_or_zero();
@@ -409,8 +469,9 @@ impl RigLight {
 struct Animated {
     node: usize,
     rest: (Vec3, Quat, Vec3),
-    /// Channel indices for translation, rotation, scale.
-    channels: [Option<usize>; 3],
+    /// Channel indices by [`Property::slot`]: translation, rotation, scale, then each group of
+    /// four morph weights.
+    channels: Vec<Option<usize>>,
 }
 
 /// A scene's node hierarchy and its keyframe animation: everything needed to flatten the scene
@@ -468,12 +529,17 @@ impl SceneAnimation {
                             (t, r, s)
                         }
                     };
-                    animated.push(Animated { node: channel.node, rest: trs, channels: [None; 3] });
+                    animated.push(Animated { node: channel.node, rest: trs, channels: vec![None; 3] });
                     slot_of[channel.node] = Some(animated.len() - 1);
                     animated.len() - 1
                 }
             };
-            animated[a].channels[channel.property.slot()].get_or_insert(c);
+            let slots = &mut animated[a].channels;
+            let slot = channel.property.slot();
+            if slots.len() <= slot {
+                slots.resize(slot + 1, None);
+            }
+            slots[slot].get_or_insert(c);
         }
         let duration = channels.iter().map(Channel::end).fold(0.0, f32::max);
         Ok(Self { rig, channels, rest, animated, duration })
@@ -519,10 +585,25 @@ impl SceneAnimation {
     /// The scene's world-space part at `t` seconds (see [`Rig::flatten`]).
     pub(in crate::scene) fn flatten_at(&self, t: f32) -> Result<Flat, String> {
         let mut locals = self.rest.clone();
+        let mut weights: Vec<Option<Vec<f32>>> = Vec::new();
         for a in &self.animated {
-            let (translation, rotation, scale) = self.trs(a, t);
-            locals[a.node] = Affine3A::from_scale_rotation_translation(scale, rotation, translation);
+            if a.channels[..3].iter().any(Option::is_some) {
+                let (translation, rotation, scale) = self.trs(a, t);
+                locals[a.node] = Affine3A::from_scale_rotation_translation(scale, rotation, translation);
+            }
+            if a.channels.len() > 3 {
+                let mut w = self.rig.nodes[a.node].weights.clone();
+                for (g, c) in a.channels[3..].iter().enumerate() {
+                    let Some(c) = c else { continue };
+                    let v = self.channels[*c].sample(t).to_array();
+                    for (slot, value) in w.iter_mut().skip(4 * g).zip(v) {
+                        *slot = value;
+                    }
+                }
+                weights.resize(self.rig.nodes.len(), None);
+                weights[a.node] = Some(w);
+            }
         }
-        self.rig.flatten(&locals)
+        self.rig.flatten(&locals, &weights)
     }
 }
