@@ -26,7 +26,7 @@ pub(in crate::scene) enum ColorSpace {
     Linear,
 }
 
-/// Decodes a PNG, JPEG or TIFF image from `bytes`, refusing absurd sizes from the header first.
+/// Decodes a PNG, JPEG, TIFF or WebP image from `bytes`, refusing absurd sizes from the header first.
 /// The message says what is wrong (without naming the image: callers do).
 pub(in crate::scene) fn decode(bytes: &[u8]) -> Result<DynamicImage, String> {
     let reader = || -> Result<ImageReader<Cursor<&[u8]>>, String> {
@@ -34,12 +34,12 @@ pub(in crate::scene) fn decode(bytes: &[u8]) -> Result<DynamicImage, String> {
             .with_guessed_format()
             .map_err(|e| format!("cannot read the image: {e}"))?;
         match reader.format() {
-            Some(ImageFormat::Png | ImageFormat::Jpeg | ImageFormat::Tiff) => Ok(reader),
+            Some(ImageFormat::Png | ImageFormat::Jpeg | ImageFormat::Tiff | ImageFormat::WebP) => Ok(reader),
             Some(other) => {
-                Err(format!("the image is {other:?}, which mcctrace cannot decode (PNG, JPEG or TIFF)"))
+                Err(format!("the image is {other:?}, which mcctrace cannot decode (PNG, JPEG, TIFF or WebP)"))
             }
             None if bytes.is_empty() => Err("the image is empty (0 bytes)".to_owned()),
-            None => Err("not a PNG, JPEG or TIFF image (unrecognised contents)".to_owned()),
+            None => Err("not a PNG, JPEG, TIFF or WebP image (unrecognised contents)".to_owned()),
         }
     };
     // A PNG's claimed size first, straight from its IHDR: the decoder only reports it after
@@ -181,7 +181,7 @@ mod tests {
     #[test]
     fn scene_image_bad_bytes_are_messages() {
         assert!(decode(b"").unwrap_err().contains("empty"));
-        assert!(decode(b"hello, world").unwrap_err().contains("not a PNG, JPEG or TIFF"));
+        assert!(decode(b"hello, world").unwrap_err().contains("not a PNG, JPEG, TIFF or WebP"));
         let png = encode(DynamicImage::new_rgb8(4, 4), ImageFormat::Png);
         assert!(decode(&png[..png.len() - 30]).unwrap_err().contains("malformed image"));
         // A header claiming 100000 × 100000 pixels is refused before decoding.

@@ -9,16 +9,52 @@ use gltf::accessor::{Accessor, DataType, Dimensions};
 
 use super::precheck::MAX_VIEWLESS_COUNT;
 
-/// Reads a `VEC3`/`FLOAT` accessor (`POSITION`, `NORMAL`).
-pub(super) fn read_vec3(acc: &Accessor, buffers: &[Vec<u8>], semantic: &str) -> Result<Vec<Vec3>, String> {
-    expect(acc, semantic, Dimensions::Vec3, &[(DataType::F32, false)])?;
+/// Element types of `POSITION` and `TEXCOORD_n`: floats, or any 8- or 16-bit integer,
+/// normalised or not, as `KHR_mesh_quantization` allows (the node's transform dequantises).
+pub(super) const QUANTIZED: &[(DataType, bool)] = &[
+    (DataType::F32, false),
+    (DataType::I8, false),
+    (DataType::I8, true),
+    (DataType::U8, false),
+    (DataType::U8, true),
+    (DataType::I16, false),
+    (DataType::I16, true),
+    (DataType::U16, false),
+    (DataType::U16, true),
+];
+
+/// Floats only: core glTF's type for `POSITION`, `NORMAL`, `TANGENT` and animation outputs.
+pub(super) const FLOAT: &[(DataType, bool)] = &[(DataType::F32, false)];
+
+/// Element types of `NORMAL` and `TANGENT`: floats, or normalised signed bytes or shorts
+/// (`KHR_mesh_quantization`).
+pub(super) const UNIT: &[(DataType, bool)] =
+    &[(DataType::F32, false), (DataType::I8, true), (DataType::I16, true)];
+
+/// Element types of core glTF's `TEXCOORD_n`: floats or normalised unsigned bytes or shorts.
+const CORE_UV: &[(DataType, bool)] = &[(DataType::F32, false), (DataType::U8, true), (DataType::U16, true)];
+
+/// Reads a `VEC3` accessor whose element type is one of `allowed` (`POSITION`, `NORMAL`, an
+/// animation's translation or scale output).
+pub(super) fn read_vec3(
+    acc: &Accessor,
+    buffers: &[Vec<u8>],
+    semantic: &str,
+    allowed: &[(DataType, bool)],
+) -> Result<Vec<Vec3>, String> {
+    expect(acc, semantic, Dimensions::Vec3, allowed)?;
     let values = read(acc, buffers)?;
     Ok(values.chunks_exact(3).map(|c| Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32)).collect())
 }
 
-/// Reads a `TANGENT` accessor: `VEC4` of floats (xyz, w = bitangent sign).
-pub(super) fn read_vec4(acc: &Accessor, buffers: &[Vec<u8>], semantic: &str) -> Result<Vec<Vec4>, String> {
-    expect(acc, semantic, Dimensions::Vec4, &[(DataType::F32, false)])?;
+/// Reads a `TANGENT` accessor: `VEC4` (xyz, w = bitangent sign) of an element type in `allowed`.
+pub(super) fn read_vec4(
+    acc: &Accessor,
+    buffers: &[Vec<u8>],
+    semantic: &str,
+    allowed: &[(DataType, bool)],
+) -> Result<Vec<Vec4>, String> {
+    expect(acc, semantic, Dimensions::Vec4, allowed)?;
     let values = read(acc, buffers)?;
     Ok(values
         .chunks_exact(4)
@@ -26,12 +62,44 @@ pub(super) fn read_vec4(acc: &Accessor, buffers: &[Vec<u8>], semantic: &str) -> 
         .collect())
 }
 
-/// Reads a `TEXCOORD_n` accessor: `VEC2` of floats or normalised unsigned bytes/shorts.
-pub(super) fn read_uv(acc: &Accessor, buffers: &[Vec<u8>], semantic: &str) -> Result<Vec<Vec2>, String> {
-    let allowed = [(DataType::F32, false), (DataType::U8, true), (DataType::U16, true)];
-    expect(acc, semantic, Dimensions::Vec2, &allowed)?;
+/// Reads a `TEXCOORD_n` accessor: `VEC2` of floats or normalised unsigned bytes/shorts, or with
+/// `quantized` (the file uses `KHR_mesh_quantization`) any of [`QUANTIZED`].
+pub(super) fn read_uv(
+    acc: &Accessor,
+    buffers: &[Vec<u8>],
+    semantic: &str,
+    quantized: bool,
+) -> Result<Vec<Vec2>, String> {
+    expect(acc, semantic, Dimensions::Vec2, if quantized { QUANTIZED } else { CORE_UV })?;
     let values = read(acc, buffers)?;
     Ok(values.chunks_exact(2).map(|c| Vec2::new(c[0] as f32, c[1] as f32)).collect())
+}
+
+/// Reads a `JOINTS_n` accessor: `VEC4` of unsigned bytes or shorts (not normalised).
+pub(super) fn read_joints(
+    acc: &Accessor,
+    buffers: &[Vec<u8>],
+    semantic: &str,
+) -> Result<Vec<[u16; 4]>, String> {
+    expect(acc, semantic, Dimensions::Vec4, &[(DataType::U8, false), (DataType::U16, false)])?;
+    let values = read(acc, buffers)?;
+    // Bytes and shorts hold their values exactly in f64 and fit u16.
+    Ok(values.chunks_exact(4).map(|c| [c[0] as u16, c[1] as u16, c[2] as u16, c[3] as u16]).collect())
+}
+
+/// Reads a `WEIGHTS_n` accessor: `VEC4` of floats or normalised unsigned bytes or shorts.
+pub(super) fn read_weights(acc: &Accessor, buffers: &[Vec<u8>], semantic: &str) -> Result<Vec<Vec4>, String> {
+    read_vec4(acc, buffers, semantic, CORE_UV)
+}
+
+/// Reads a skin's `inverseBindMatrices`: `MAT4` of floats, column-major.
+pub(super) fn read_mat4(acc: &Accessor, buffers: &[Vec<u8>]) -> Result<Vec<glam::Mat4>, String> {
+    expect(acc, "inverseBindMatrices", Dimensions::Mat4, FLOAT)?;
+    let values = read(acc, buffers)?;
+    Ok(values
+        .chunks_exact(16)
+        .map(|c| glam::Mat4::from_cols_array(&std::array::from_fn(|i| c[i] as f32)))
+        .collect())
 }
 
 /// Reads an index accessor: `SCALAR` unsigned bytes, shorts or ints.
@@ -45,6 +113,19 @@ pub(super) fn read_indices(acc: &Accessor, buffers: &[Vec<u8>]) -> Result<Vec<u3
 /// Reads an animation sampler's input: `SCALAR` floats (key times in seconds).
 pub(super) fn read_times(acc: &Accessor, buffers: &[Vec<u8>]) -> Result<Vec<f32>, String> {
     expect(acc, "animation input", Dimensions::Scalar, &[(DataType::F32, false)])?;
+    Ok(read(acc, buffers)?.into_iter().map(|v| v as f32).collect())
+}
+
+/// Reads an animation sampler's `weights` output: `SCALAR` floats or normalised integers.
+pub(super) fn read_scalars(acc: &Accessor, buffers: &[Vec<u8>], what: &str) -> Result<Vec<f32>, String> {
+    let allowed = [
+        (DataType::F32, false),
+        (DataType::I8, true),
+        (DataType::U8, true),
+        (DataType::I16, true),
+        (DataType::U16, true),
+    ];
+    expect(acc, what, Dimensions::Scalar, &allowed)?;
     Ok(read(acc, buffers)?.into_iter().map(|v| v as f32).collect())
 }
 
@@ -72,8 +153,14 @@ fn expect(acc: &Accessor, what: &str, dims: Dimensions, allowed: &[(DataType, bo
     if acc.dimensions() == dims && allowed.contains(&(ty, norm)) {
         return Ok(());
     }
+    // A quantized type in a file that does not declare the extension: say which one would allow it.
+    let hint = if acc.dimensions() == dims && QUANTIZED.contains(&(ty, norm)) {
+        " (KHR_mesh_quantization allows it, but the file does not list that extension in extensionsUsed)"
+    } else {
+        ""
+    };
     Err(format!(
-        "accessor {} used as {what} is {:?} of {ty:?}{}, which glTF does not allow there",
+        "accessor {} used as {what} is {:?} of {ty:?}{}, which glTF does not allow there{hint}",
         acc.index(),
         acc.dimensions(),
         if norm { " (normalized)" } else { "" }

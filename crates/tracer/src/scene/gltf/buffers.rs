@@ -53,24 +53,33 @@ fn u32_at(bytes: &[u8], at: usize) -> Option<u32> {
     Some(u32::from_le_bytes(b))
 }
 
-/// Loads every buffer of `doc`, each cut to its declared `byteLength`. External files are
-/// resolved against `base` (the .gltf's folder); `bin` is the GLB binary chunk, if any.
-pub(super) fn load(doc: &gltf::Document, base: &Path, bin: Option<&[u8]>) -> Result<Vec<Vec<u8>>, String> {
+/// Loads every buffer of a glTF file, each cut to its declared `byteLength`. External files are
+/// resolved against `base` (the .gltf's folder); `bin` is the GLB binary chunk, if any. A buffer
+/// that `skip` marks (a meshopt fallback) is not read and stays empty.
+pub(super) fn load(
+    declared_buffers: &[gltf::json::buffer::Buffer],
+    base: &Path,
+    bin: Option<&[u8]>,
+    skip: &[bool],
+) -> Result<Vec<Vec<u8>>, String> {
     let mut bin = bin;
-    let mut buffers = Vec::with_capacity(doc.buffers().len());
-    for buffer in doc.buffers() {
-        let i = buffer.index();
-        let (mut data, origin) = match buffer.source() {
-            gltf::buffer::Source::Bin => {
+    let mut buffers = Vec::with_capacity(declared_buffers.len());
+    for (i, buffer) in declared_buffers.iter().enumerate() {
+        if skip.get(i).copied().unwrap_or(false) {
+            buffers.push(Vec::new());
+            continue;
+        }
+        let (mut data, origin) = match &buffer.uri {
+            None => {
                 // Only one buffer may use the BIN chunk; `take` makes a second claim an error.
                 let data = bin
                     .take()
                     .ok_or_else(|| format!("buffer {i} refers to the GLB binary chunk, but there is none"))?;
                 (data.to_vec(), "the GLB binary chunk".to_owned())
             }
-            gltf::buffer::Source::Uri(uri) => read_uri(uri, base).map_err(|m| format!("buffer {i}: {m}"))?,
+            Some(uri) => read_uri(uri, base).map_err(|m| format!("buffer {i}: {m}"))?,
         };
-        let declared = buffer.length();
+        let declared = usize::try_from(buffer.byte_length.0).unwrap_or(usize::MAX);
         if data.len() < declared {
             return Err(format!(
                 "buffer {i} ({origin}) has {} bytes but the glTF declares {declared}",

@@ -1,10 +1,11 @@
 //! glTF animations (§3.11): every channel's sampler read through the checked accessors, its keys
 //! validated ([`Channel::new`]) and its target resolved to a node of the rendered hierarchy.
-//! Morph-target `weights` channels are not supported: one warning, then ignored. Channels of
+//! A morph-target `weights` channel becomes one channel per group of four weights. Channels of
 //! nodes outside the rendered scene are checked, then dropped.
 
 use super::{accessor, node_label};
 use crate::scene::rig::{Channel, Interpolation, Pose, Property, Rig};
+use glam::Vec4;
 use gltf::json::animation::{Interpolation as GltfInterpolation, Property as GltfProperty};
 use gltf::json::validation::Checked;
 use std::collections::HashMap;
@@ -63,7 +64,6 @@ pub(super) fn read(
 ) -> Result<(Vec<Channel>, Vec<String>), String> {
     let mut channels = Vec::new();
     let mut warnings = Vec::new();
-    let mut weights = 0;
     // Which channel animates each (rig node, property) first.
     let mut owner: HashMap<(usize, Property), String> = HashMap::new();
     let mut matrix_warned = vec![false; rig.nodes.len()];
@@ -76,10 +76,7 @@ pub(super) fn read(
                 Checked::Valid(GltfProperty::Translation) => Property::Translation,
                 Checked::Valid(GltfProperty::Rotation) => Property::Rotation,
                 Checked::Valid(GltfProperty::Scale) => Property::Scale,
-                Checked::Valid(GltfProperty::MorphTargetWeights) => {
-                    weights += 1;
-                    continue;
-                }
+                Checked::Valid(GltfProperty::MorphTargetWeights) => Property::Weights(0),
                 Checked::Invalid => {
                     return Err(format!("{name} channel {c} ({node_name}): unknown target path"));
                 }
@@ -101,13 +98,55 @@ pub(super) fn read(
             };
             let (input, output) = (accessor_at(sampler.input.value())?, accessor_at(sampler.output.value())?);
             let times = accessor::read_times(&input, buffers).map_err(fail)?;
+            let target = rig_node_of.get(node).copied().flatten();
+            if property == Property::Weights(0) {
+                // One channel per group of four weights, each checked and sampled like the rest.
+                let count = target.and_then(|t| rig.nodes.get(t)).map_or(0, |n| n.weights.len());
+                if count == 0 {
+                    if target.is_some() {
+                        warnings.push(format!("{what}: the node's mesh has no morph targets; ignored"));
+                    }
+                    continue;
+                }
+                let scalars = accessor::read_scalars(&output, buffers, "weights output").map_err(fail)?;
+                let per_key = if interpolation == Interpolation::CubicSpline { 3 } else { 1 };
+                if scalars.len() != times.len() * per_key * count {
+                    return Err(fail(format!(
+                        "{} weights for {} keys of {count} targets ({per_key} per key and target)",
+                        scalars.len(),
+                        times.len()
+                    )));
+                }
+                let Some(target) = target else { continue };
+                for g in 0..count.div_ceil(4) {
+                    let values = scalars
+                        .chunks_exact(count)
+                        .map(|row| {
+                            Vec4::from_array(std::array::from_fn(|i| {
+                                row.get(4 * g + i).copied().unwrap_or(0.0)
+                            }))
+                        })
+                        .collect();
+                    let group = u16::try_from(g).map_err(|_| fail(format!("{count} morph targets")))?;
+                    let channel =
+                        Channel::new(target, Property::Weights(group), interpolation, times.clone(), values)
+                            .map_err(fail)?;
+                    if let Entry::Vacant(slot) = owner.entry((target, channel.property)) {
+                        slot.insert(format!("{name} channel {c}"));
+                        channels.push(channel);
+                    } else if g == 0 {
+                        warnings
+                            .push(format!("{what}: another channel already animates these weights; ignored"));
+                    }
+                }
+                continue;
+            }
             let values = match property {
                 Property::Rotation => accessor::read_rotations(&output, buffers),
-                _ => accessor::read_vec3(&output, buffers, &format!("{property} output"))
+                _ => accessor::read_vec3(&output, buffers, &format!("{property} output"), accessor::FLOAT)
                     .map(|v| v.into_iter().map(|v| v.extend(0.0)).collect()),
             }
             .map_err(fail)?;
-            let target = rig_node_of.get(node).copied().flatten();
             // Checked even when the node is not rendered: a malformed file is refused either way.
             let channel = Channel::new(target.unwrap_or(usize::MAX), property, interpolation, times, values)
                 .map_err(fail)?;
@@ -132,10 +171,6 @@ pub(super) fn read(
             }
             channels.push(channel);
         }
-    }
-    if weights > 0 {
-        let s = if weights == 1 { " is" } else { "s are" };
-        warnings.push(format!("{weights} morph-target weights channel{s} not supported; ignored"));
     }
     Ok((channels, warnings))
 }

@@ -27,13 +27,17 @@
 mod accessor;
 mod buffers;
 mod channels;
+mod instancing;
 mod material;
+mod meshopt;
 mod precheck;
 #[cfg(test)]
 pub(super) mod tests;
 mod textures;
 
-use super::rig::{LightKind, Pose, Primitive, Rig, RigCamera, RigLight, RigNode};
+use super::rig::{
+    Influences, LightKind, MorphTarget, Pose, Primitive, Rig, RigCamera, RigLight, RigNode, Skin,
+};
 use super::{Scene, SceneAnimation, SpotFalloff};
 use crate::camera::Projection;
 use crate::error::{Result, TracerError};
@@ -51,6 +55,11 @@ const HANDLED_EXTENSIONS: &[&str] = &[
     "KHR_materials_transmission",
     "KHR_materials_ior",
     "KHR_texture_transform",
+    "KHR_mesh_quantization",
+    "EXT_meshopt_compression",
+    "KHR_meshopt_compression",
+    "EXT_texture_webp",
+    "EXT_mesh_gpu_instancing",
 ];
 
 /// Loads a `.gltf` or `.glb` file (told apart by the GLB magic, not the name).
@@ -75,8 +84,11 @@ pub(super) fn load_with(path: &Path, keep_rig: bool) -> Result<Scene> {
     let mut root: gltf::json::Root = gltf::json::deserialize::from_slice(&json[..end])
         .map_err(|e| err(format!("malformed glTF JSON: {e}")))?;
     // The same JSON untyped, for what the gltf crate drops (a normalTexture's extensions).
-    let raw: serde_json::Value =
+    let mut raw: serde_json::Value =
         serde_json::from_slice(&json[..end]).map_err(|e| err(format!("malformed glTF JSON: {e}")))?;
+    if textures::use_webp_sources(&mut raw) {
+        root = serde_json::from_value(raw.clone()).map_err(|e| err(format!("malformed glTF JSON: {e}")))?;
+    }
     if !root.asset.version.starts_with("2.") {
         return Err(err(format!("glTF version {} is not supported (only 2.x)", root.asset.version)));
     }
@@ -89,12 +101,25 @@ pub(super) fn load_with(path: &Path, keep_rig: bool) -> Result<Scene> {
     channels::check_indices(&root).map_err(err)?;
     precheck::check(&root).map_err(err)?;
     let unbounded = fill_position_bounds(&mut root);
+    let base = path.parent().unwrap_or(Path::new("."));
+    // Compressed views are decoded into buffers of their own before the document is built, so
+    // that everything after reads them as plain views.
+    let compressed = meshopt::Views::read(&raw).map_err(err)?;
+    let decoded = if compressed.is_empty() {
+        None
+    } else {
+        let mut buffers = buffers::load(&root.buffers, base, bin, &compressed.fallback).map_err(err)?;
+        compressed.decode(&mut root, &mut buffers).map_err(err)?;
+        Some(buffers)
+    };
     let doc = gltf::Document::from_json(root).map_err(|e| match e {
         gltf::Error::Validation(errors) => err(precheck::describe_validation(&errors)),
         other => err(other.to_string()),
     })?;
-    let base = path.parent().unwrap_or(Path::new("."));
-    let buffers = buffers::load(&doc, base, bin).map_err(err)?;
+    let buffers = match decoded {
+        Some(buffers) => buffers,
+        None => buffers::load(&doc.as_json().buffers, base, bin, &[]).map_err(err)?,
+    };
 
     let mut scene = Scene { path: path.to_owned(), ..Scene::default() };
     if unbounded > 0 {
@@ -126,8 +151,11 @@ pub(super) fn load_with(path: &Path, keep_rig: bool) -> Result<Scene> {
         mesh_primitives: vec![None; doc.meshes().len()],
         rig_node_of: vec![None; doc.nodes().len()],
         cameras: 0,
+        quantized: doc.extensions_used().any(|e| e == "KHR_mesh_quantization"),
+        raw_nodes: raw.get("nodes").and_then(serde_json::Value::as_array),
     };
     loader.traverse(&doc)?;
+    loader.skins(&doc)?;
     let Loader { mut scene, rig, rig_node_of, .. } = loader;
     let (channels, warnings) = channels::read(&doc, &buffers, &rig, &rig_node_of).map_err(err)?;
     scene.warnings.extend(warnings.into_iter().map(|w| format!("{}: {w}", path.display())));
@@ -165,6 +193,10 @@ struct Loader<'a> {
     rig_node_of: Vec<Option<usize>>,
     /// Cameras met so far (names unnamed ones).
     cameras: usize,
+    /// The file declares `KHR_mesh_quantization`: vertex attributes may be integers.
+    quantized: bool,
+    /// The nodes' untyped JSON, for extensions the gltf crate does not parse (instancing).
+    raw_nodes: Option<&'a Vec<serde_json::Value>>,
 }
 
 impl Loader<'_> {
@@ -209,9 +241,14 @@ impl Loader<'_> {
                 Some(mesh) => self.mesh(&mesh)?,
                 None => 0..0,
             };
-            if node.skin().is_some() {
-                self.warn(format!("{label}: skinning is not supported; the mesh is drawn in its bind pose"));
-            }
+            // Morph weights: the node's, else its mesh's, else zero, one per target.
+            let targets =
+                self.rig.primitives[primitives.clone()].iter().map(|p| p.targets.len()).max().unwrap_or(0);
+            let mesh_weights = node.mesh().and_then(|m| m.weights().map(<[f32]>::to_vec));
+            let mut weights = node.weights().map(<[f32]>::to_vec).or(mesh_weights).unwrap_or_default();
+            weights.resize(targets, 0.0);
+            // Resolved into the rig's skins once every joint has its rig node (`skins`).
+            let skin = node.skin().map(|s| s.index());
             let camera = match node.camera() {
                 Some(camera) => Some(self.camera(doc, &node, &camera)?),
                 None => None,
@@ -221,7 +258,49 @@ impl Loader<'_> {
                 None => None,
             };
             let rest = rest_pose(&node);
-            self.rig.nodes.push(RigNode { label, parent, rest, primitives, camera, light });
+            let raw_node = self.raw_nodes.and_then(|n| n.get(node.index()));
+            let instances = match raw_node {
+                Some(raw) => instancing::instances(raw, doc, self.buffers, self.quantized)
+                    .map_err(|m| self.error(format!("{label}: {m}")))?,
+                None => None,
+            };
+            match instances {
+                // The node carries the mesh's instances as leaves; itself it draws nothing.
+                Some(poses) => {
+                    self.rig.nodes.push(RigNode {
+                        label: label.clone(),
+                        parent,
+                        rest,
+                        primitives: 0..0,
+                        camera,
+                        light,
+                        skin: None,
+                        weights: Vec::new(),
+                    });
+                    for (i, pose) in poses.into_iter().enumerate() {
+                        self.rig.nodes.push(RigNode {
+                            label: format!("{label} instance {i}"),
+                            parent: Some(index),
+                            rest: pose,
+                            primitives: primitives.clone(),
+                            camera: None,
+                            light: None,
+                            skin,
+                            weights: weights.clone(),
+                        });
+                    }
+                }
+                None => self.rig.nodes.push(RigNode {
+                    label,
+                    parent,
+                    rest,
+                    primitives,
+                    camera,
+                    light,
+                    skin,
+                    weights,
+                }),
+            }
             let children: Vec<_> = node.children().collect();
             stack.extend(children.into_iter().rev().map(|c| (c, Some(index))));
         }
@@ -248,26 +327,29 @@ impl Loader<'_> {
                 self.warn(format!("{what}: no POSITION attribute; skipped"));
                 continue;
             };
-            if prim.morph_targets().next().is_some() {
-                self.warn(format!("{what}: morph targets are not supported; drawn without them"));
-            }
-            let positions = accessor::read_vec3(&pos_accessor, self.buffers, "POSITION").map_err(fail)?;
+            let q = self.quantized;
+            let (position_types, unit_types) =
+                if q { (accessor::QUANTIZED, accessor::UNIT) } else { (accessor::FLOAT, accessor::FLOAT) };
+            let positions =
+                accessor::read_vec3(&pos_accessor, self.buffers, "POSITION", position_types).map_err(fail)?;
             let normals = match prim.get(&Semantic::Normals) {
-                Some(a) => Some(accessor::read_vec3(&a, self.buffers, "NORMAL").map_err(fail)?),
+                Some(a) => Some(accessor::read_vec3(&a, self.buffers, "NORMAL", unit_types).map_err(fail)?),
                 None => None,
             };
             let uvs = match prim.get(&Semantic::TexCoords(0)) {
-                Some(a) => Some(accessor::read_uv(&a, self.buffers, "TEXCOORD_0").map_err(fail)?),
+                Some(a) => Some(accessor::read_uv(&a, self.buffers, "TEXCOORD_0", q).map_err(fail)?),
                 None => None,
             };
             let uvs1 = match prim.get(&Semantic::TexCoords(1)) {
-                Some(a) => Some(accessor::read_uv(&a, self.buffers, "TEXCOORD_1").map_err(fail)?),
+                Some(a) => Some(accessor::read_uv(&a, self.buffers, "TEXCOORD_1", q).map_err(fail)?),
                 None => None,
             };
             let tangents = match prim.get(&Semantic::Tangents) {
-                Some(a) => Some(accessor::read_vec4(&a, self.buffers, "TANGENT").map_err(fail)?),
+                Some(a) => Some(accessor::read_vec4(&a, self.buffers, "TANGENT", unit_types).map_err(fail)?),
                 None => None,
             };
+            let influences = self.influences(&prim, positions.len()).map_err(fail)?;
+            let targets = self.targets(&prim).map_err(fail)?;
             let mut indices = match prim.indices() {
                 Some(a) => accessor::read_indices(&a, self.buffers).map_err(fail)?,
                 None => {
@@ -296,6 +378,8 @@ impl Loader<'_> {
                 tangents,
                 indices,
                 material,
+                influences,
+                targets,
             });
         }
         let range = start..self.rig.primitives.len();
@@ -303,6 +387,93 @@ impl Loader<'_> {
             *slot = Some(range.clone());
         }
         Ok(range)
+    }
+
+    /// A primitive's morph targets: `POSITION`, `NORMAL` and `TANGENT` deltas (floats, or
+    /// normalised integers with `KHR_mesh_quantization`).
+    fn targets(&self, prim: &gltf::Primitive) -> Result<Vec<MorphTarget>, String> {
+        let types = if self.quantized { accessor::QUANTIZED } else { accessor::FLOAT };
+        let read = |a: Option<gltf::Accessor>, what: String| match a {
+            Some(a) => accessor::read_vec3(&a, self.buffers, &what, types).map(Some),
+            None => Ok(None),
+        };
+        prim.morph_targets()
+            .enumerate()
+            .map(|(i, t)| {
+                Ok(MorphTarget {
+                    positions: read(t.positions(), format!("target {i} POSITION"))?,
+                    normals: read(t.normals(), format!("target {i} NORMAL"))?,
+                    tangents: read(t.tangents(), format!("target {i} TANGENT"))?,
+                })
+            })
+            .collect()
+    }
+
+    /// A primitive's `JOINTS_n` / `WEIGHTS_n` sets, in order until the first missing pair.
+    fn influences(&self, prim: &gltf::Primitive, vertices: usize) -> Result<Option<Influences>, String> {
+        let mut sets = Vec::new();
+        for k in 0.. {
+            let (joints, weights) = (prim.get(&Semantic::Joints(k)), prim.get(&Semantic::Weights(k)));
+            let (Some(j), Some(w)) = (joints, weights) else {
+                if prim.get(&Semantic::Joints(k)).is_some() != prim.get(&Semantic::Weights(k)).is_some() {
+                    return Err(format!("JOINTS_{k} and WEIGHTS_{k} must come together"));
+                }
+                break;
+            };
+            sets.push((
+                accessor::read_joints(&j, self.buffers, &format!("JOINTS_{k}"))?,
+                accessor::read_weights(&w, self.buffers, &format!("WEIGHTS_{k}"))?,
+            ));
+        }
+        if sets.is_empty() {
+            return Ok(None);
+        }
+        Influences::new(sets, vertices).map(Some)
+    }
+
+    /// The file's skins as rig skins, and each skinned node pointed at its own; a joint outside
+    /// the rendered hierarchy is an error naming the skin.
+    fn skins(&mut self, doc: &gltf::Document) -> Result<()> {
+        let mut rig_skin_of = vec![None; doc.skins().len()];
+        for node in 0..self.rig.nodes.len() {
+            let Some(s) = self.rig.nodes[node].skin else { continue };
+            if let Some(Some(done)) = rig_skin_of.get(s) {
+                self.rig.nodes[node].skin = Some(*done);
+                continue;
+            }
+            let skin = doc.skins().nth(s).ok_or_else(|| self.error(format!("skin {s} does not exist")))?;
+            let label = format!("skin {s} ('{}')", skin.name().unwrap_or(""));
+            let mut joints = Vec::new();
+            for j in skin.joints() {
+                let rig = self.rig_node_of.get(j.index()).copied().flatten().ok_or_else(|| {
+                    self.error(format!(
+                        "{label}: joint {} is not in the rendered scene's hierarchy",
+                        node_label(&j)
+                    ))
+                })?;
+                joints.push(rig);
+            }
+            let inverse_bind = match skin.inverse_bind_matrices() {
+                Some(a) => {
+                    let m = accessor::read_mat4(&a, self.buffers)
+                        .map_err(|m| self.error(format!("{label}: {m}")))?;
+                    if m.len() < joints.len() {
+                        return Err(self.error(format!(
+                            "{label}: {} inverse bind matrices for {} joints",
+                            m.len(),
+                            joints.len()
+                        )));
+                    }
+                    m.iter().map(|m| Affine3A::from_mat4(*m)).collect()
+                }
+                None => vec![Affine3A::IDENTITY; joints.len()],
+            };
+            self.rig.skins.push(Skin { label, joints, inverse_bind });
+            let index = self.rig.skins.len() - 1;
+            rig_skin_of[s] = Some(index);
+            self.rig.nodes[node].skin = Some(index);
+        }
+        Ok(())
     }
 
     /// Warns when `material`'s textures read a coordinate set the primitive lacks (the tracer

@@ -19,6 +19,24 @@ pub(super) struct UvTransform {
     pub tex_coord: Option<u32>,
 }
 
+/// `EXT_texture_webp`: points every texture that carries the extension at its WebP image (the
+/// plain `source`, if any, is the fallback for viewers without WebP). Returns whether anything
+/// changed, so the typed document is read again only then.
+pub(super) fn use_webp_sources(raw: &mut serde_json::Value) -> bool {
+    let Some(textures) = raw.get_mut("textures").and_then(serde_json::Value::as_array_mut) else {
+        return false;
+    };
+    let mut changed = false;
+    for texture in textures {
+        let webp = texture.pointer("/extensions/EXT_texture_webp/source").cloned();
+        if let (Some(source), Some(object)) = (webp, texture.as_object_mut()) {
+            object.insert("source".to_owned(), source);
+            changed = true;
+        }
+    }
+    changed
+}
+
 /// Reads the images glTF textures refer to, each once, and makes the scene's textures.
 pub(super) struct TextureLoader<'a> {
     doc: &'a gltf::Document,

@@ -122,7 +122,7 @@ fn scene_obj_textures_alpha_and_glass() {
         "height.png is greyscale, a height map",
         "not supported, ignored: map_Ka",
         "map_Kd 'maps/junk.png'",
-        "not a PNG, JPEG or TIFF",
+        "not a PNG, JPEG, TIFF or WebP",
         "map_d (only a map_d naming the map_Kd image is used, as its alpha)",
         "Ni 0 is below 1",
     ] {

@@ -8,7 +8,7 @@
 
 use glam::{DVec4, Vec4};
 
-/// Which part of a node's transform a channel animates.
+/// Which part of a node's transform, or which of its morph weights, a channel animates.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub(in crate::scene) enum Property {
     /// The translation (xyz).
@@ -17,22 +17,32 @@ pub(in crate::scene) enum Property {
     Rotation,
     /// The scale (xyz).
     Scale,
+    /// Morph-target weights 4g … 4g + 3 (a glTF `weights` channel is split into groups of four,
+    /// each interpolated component by component like a translation).
+    Weights(u16),
 }
 
 impl Property {
-    /// Where an animated node keeps this property's channel (see `Animated` in the parent module).
+    /// Where an animated node keeps this property's channel (see `Animated` in the parent
+    /// module): the transform's three slots, then one per group of weights.
     pub(super) fn slot(self) -> usize {
-        self as usize
+        match self {
+            Self::Translation => 0,
+            Self::Rotation => 1,
+            Self::Scale => 2,
+            Self::Weights(g) => 3 + usize::from(g),
+        }
     }
 }
 
 impl std::fmt::Display for Property {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            Self::Translation => "translation",
-            Self::Rotation => "rotation",
-            Self::Scale => "scale",
-        })
+        match self {
+            Self::Translation => f.write_str("translation"),
+            Self::Rotation => f.write_str("rotation"),
+            Self::Scale => f.write_str("scale"),
+            Self::Weights(g) => write!(f, "morph weights {}..={}", 4 * g, 4 * g + 3),
+        }
     }
 }
 

@@ -15,8 +15,14 @@
 //! per animated object, all meant to run at once.
 
 mod channel;
+mod morph;
+mod skin;
 
 pub(in crate::scene) use channel::{Channel, Interpolation, Property};
+pub(in crate::scene) use morph::MorphTarget;
+pub(in crate::scene) use skin::{Influences, Skin};
+
+use morph::Morphed;
 
 use super::{Mesh, MeshExtras, MeshPart, PunctualLight, SpotFalloff};
 use crate::camera::{CameraDesc, Projection};
@@ -66,6 +72,10 @@ pub(in crate::scene) struct RigNode {
     pub camera: Option<RigCamera>,
     /// The light the node carries.
     pub light: Option<RigLight>,
+    /// The skin (index into [`Rig::skins`]) that deforms the node's primitives.
+    pub skin: Option<usize>,
+    /// Morph-target weights when no animation sets them (the node's, else its mesh's).
+    pub weights: Vec<f32>,
 }
 
 /// A triangle primitive in its node's local space, indices already a counter-clockwise list.
@@ -87,6 +97,18 @@ pub(in crate::scene) struct Primitive {
     pub indices: Vec<u32>,
     /// Material of every triangle.
     pub material: u32,
+    /// Joints and weights of every vertex, where the primitive can be skinned.
+    pub influences: Option<Influences>,
+    /// Morph targets.
+    pub targets: Vec<MorphTarget>,
+}
+
+/// The vertex attributes a frame transforms: the primitive's own, or morphed ones.
+#[derive(Clone, Copy)]
+struct Attributes<'a> {
+    positions: &'a [Vec3],
+    normals: Option<&'a [Vec3]>,
+    tangents: Option<&'a [Vec4]>,
 }
 
 /// A camera on a node: it looks down the node's −Z with +Y up.
@@ -126,6 +148,8 @@ pub(in crate::scene) struct Rig {
     pub nodes: Vec<RigNode>,
     /// Mesh primitives; a mesh several nodes instance is stored once.
     pub primitives: Vec<Primitive>,
+    /// Skins the nodes refer to.
+    pub skins: Vec<Skin>,
 }
 
 /// What [`Rig::flatten`] produces: the scene's world-space part.
@@ -150,8 +174,13 @@ struct Scratch {
 
 impl Rig {
     /// Flattens the hierarchy with each node's transform relative to its parent taken from
-    /// `locals` (one per node); the message names the node, primitive or light at fault.
-    pub(in crate::scene) fn flatten(&self, locals: &[Affine3A]) -> Result<Flat, String> {
+    /// `locals` (one per node) and its morph weights from `weights` where that has them (else
+    /// the node's own); the message names the node, primitive or light at fault.
+    pub(in crate::scene) fn flatten(
+        &self,
+        locals: &[Affine3A],
+        weights: &[Option<Vec<f32>>],
+    ) -> Result<Flat, String> {
         if locals.len() != self.nodes.len() {
             return Err(format!("{} node transforms for {} nodes", locals.len(), self.nodes.len()));
         }
@@ -171,8 +200,8 @@ impl Rig {
         flat.mesh.positions.reserve(vertices);
         flat.mesh.triangles.reserve(triangles);
         flat.mesh.material_ids.reserve(triangles);
+        // Every world transform first: a skinned mesh needs its joints', wherever they are.
         let mut worlds: Vec<Affine3A> = Vec::with_capacity(self.nodes.len());
-        let mut scratch = Scratch::default();
         for (node, local) in self.nodes.iter().zip(locals) {
             let world = match node.parent {
                 None => *local,
@@ -186,27 +215,88 @@ impl Rig {
                 return Err(format!("{} has a non-finite transform", node.label));
             }
             worlds.push(world);
+        }
+        let mut scratch = Scratch::default();
+        let mut joint_buf: Vec<Affine3A> = Vec::new();
+        let mut morphed = Morphed::default();
+        for (i, (node, world)) in self.nodes.iter().zip(&worlds).enumerate() {
+            let node_weights = weights.get(i).and_then(Option::as_deref).unwrap_or(&node.weights);
             if !node.primitives.is_empty() {
-                let frame = Frame::new(&world);
+                let frame = Frame::new(world);
+                let joints = match node.skin {
+                    Some(s) => Some(self.joint_matrices(s, &worlds, &mut joint_buf)?),
+                    None => None,
+                };
                 for prim in primitives(node)? {
-                    frame
-                        .push(prim, &mut flat.mesh, &mut scratch)
-                        .map_err(|m| format!("{}: {m}", prim.label))?;
+                    let mut attrs = Attributes {
+                        positions: &prim.positions,
+                        normals: prim.normals.as_deref(),
+                        tangents: prim.tangents.as_deref(),
+                    };
+                    if !prim.targets.is_empty() {
+                        let [p, n, t] = morphed
+                            .apply(
+                                &prim.targets,
+                                node_weights,
+                                attrs.positions,
+                                attrs.normals,
+                                attrs.tangents,
+                            )
+                            .map_err(|m| format!("{}: {m}", prim.label))?;
+                        if p {
+                            attrs.positions = &morphed.positions;
+                        }
+                        if n {
+                            attrs.normals = Some(&morphed.normals);
+                        }
+                        if t {
+                            attrs.tangents = Some(&morphed.tangents);
+                        }
+                    }
+                    let pushed = match (joints, &prim.influences) {
+                        (Some(matrices), Some(influences)) => frame.push_skinned(
+                            prim,
+                            attrs,
+                            influences,
+                            matrices,
+                            &mut flat.mesh,
+                            &mut scratch,
+                        ),
+                        _ => frame.push(prim, attrs, &mut flat.mesh, &mut scratch),
+                    };
+                    pushed.map_err(|m| format!("{}: {m}", prim.label))?;
                 }
             }
             if let Some(camera) = &node.camera {
                 let projection = camera.projection;
                 flat.cameras.push(CameraDesc {
                     name: camera.name.clone(),
-                    world_from_camera: world,
+                    world_from_camera: *world,
                     projection,
                 });
             }
             if let Some(light) = &node.light {
-                flat.lights.push(light.place(&world)?);
+                flat.lights.push(light.place(world)?);
             }
         }
         Ok(flat)
+    }
+
+    /// Skin `s`'s joint matrices (joint world × inverse bind) into `out`.
+    fn joint_matrices<'o>(
+        &self,
+        s: usize,
+        worlds: &[Affine3A],
+        out: &'o mut Vec<Affine3A>,
+    ) -> Result<&'o [Affine3A], String> {
+        let skin = self.skins.get(s).ok_or_else(|| format!("skin {s} of {}", self.skins.len()))?;
+        out.clear();
+        for (&j, ibm) in skin.joints.iter().zip(&skin.inverse_bind) {
+            let world =
+                worlds.get(j).ok_or_else(|| format!("{}: joint node {j} of {}", skin.label, worlds.len()))?;
+            out.push(*world * *ibm);
+        }
+        Ok(out)
     }
 
     /// How many cameras the nodes carry.
@@ -237,11 +327,75 @@ impl<'a> Frame<'a> {
         Self { world, linear: m, cofactor, mirrored: det < 0.0 }
     }
 
-    /// Appends `prim` transformed into world space to `mesh`.
-    fn push(&self, prim: &Primitive, mesh: &mut Mesh, s: &mut Scratch) -> Result<(), String> {
+    /// Appends skinned `prim` to `mesh`: each vertex moved by its joints' blended matrix; the
+    /// node's own transform applies only to a vertex without weight.
+    fn push_skinned(
+        &self,
+        prim: &Primitive,
+        attrs: Attributes<'_>,
+        influences: &Influences,
+        joints: &[Affine3A],
+        mesh: &mut Mesh,
+        s: &mut Scratch,
+    ) -> Result<(), String> {
+        if usize::from(influences.max_joint()) >= joints.len() {
+            return Err(format!(
+                "a vertex uses joint {} but its skin has {}",
+                influences.max_joint(),
+                joints.len()
+            ));
+        }
+        let n = prim.positions.len();
+        for (what, len) in [
+            ("NORMAL", prim.normals.as_ref().map(Vec::len)),
+            ("TANGENT", prim.tangents.as_ref().map(Vec::len)),
+        ] {
+            if let Some(len) = len.filter(|&l| l != n) {
+                return Err(format!("{what} has {len} entries for {n} positions"));
+            }
+        }
         s.positions.clear();
-        s.positions.extend(prim.positions.iter().map(|&p| self.world.transform_point3(p)));
-        let normals = prim.normals.as_ref().map(|ns| {
+        s.normals.clear();
+        s.tangents.clear();
+        for (v, &p) in attrs.positions.iter().enumerate() {
+            let m = influences.matrix(v, joints, self.world);
+            s.positions.push(m.transform_point3(p));
+            let linear = Mat3::from(m.matrix3);
+            if let Some(ns) = attrs.normals {
+                s.normals.push((skin::normal_matrix(linear) * ns[v]).normalize_or_zero());
+            }
+            if let Some(ts) = attrs.tangents {
+                let t = ts[v];
+                let xyz = (linear * t.truncate()).normalize_or_zero();
+                let w = if (t.w < 0.0) == (linear.determinant() < 0.0) { 1.0 } else { -1.0 };
+                s.tangents.push(if xyz == Vec3::ZERO { Vec4::ZERO } else { xyz.extend(w) });
+            }
+        }
+        let part = MeshPart {
+            positions: &s.positions,
+            normals: attrs.normals.map(|_| &s.normals[..]),
+            uvs: prim.uvs.as_deref(),
+            indices: Some(&prim.indices),
+            material: prim.material,
+        };
+        let extras = MeshExtras {
+            uvs1: prim.uvs1.as_deref(),
+            tangents: prim.tangents.as_ref().map(|_| &s.tangents[..]),
+        };
+        mesh.push_with(part, extras)
+    }
+
+    /// Appends `prim` transformed into world space to `mesh`.
+    fn push(
+        &self,
+        prim: &Primitive,
+        attrs: Attributes<'_>,
+        mesh: &mut Mesh,
+        s: &mut Scratch,
+    ) -> Result<(), String> {
+        s.positions.clear();
+        s.positions.extend(attrs.positions.iter().map(|&p| self.world.transform_point3(p)));
+        let normals = attrs.normals.map(|ns| {
             s.normals.clear();
             s.normals.extend(ns.iter().map(|&n| (self.cofactor * n).normalize_or_zero()));
             &s.normals[..]
@@ -249,7 +403,7 @@ impl<'a> Frame<'a> {
         // Tangents are directions on the surface: they transform like positions' differences.
         // A mirroring transform flips the handedness of the tangent frame, so w flips too.
         let handedness = if self.mirrored { -1.0 } else { 1.0 };
-        let tangents = prim.tangents.as_ref().map(|ts| {
+        let tangents = attrs.tangents.map(|ts| {
             s.tangents.clear();
             s.tangents.extend(ts.iter().map(|t| {
                 let xyz = (self.linear * t.truncate()).normalize_or_zero();
@@ -315,8 +469,9 @@ impl RigLight {
 struct Animated {
     node: usize,
     rest: (Vec3, Quat, Vec3),
-    /// Channel indices for translation, rotation, scale.
-    channels: [Option<usize>; 3],
+    /// Channel indices by [`Property::slot`]: translation, rotation, scale, then each group of
+    /// four morph weights.
+    channels: Vec<Option<usize>>,
 }
 
 /// A scene's node hierarchy and its keyframe animation: everything needed to flatten the scene
@@ -374,12 +529,17 @@ impl SceneAnimation {
                             (t, r, s)
                         }
                     };
-                    animated.push(Animated { node: channel.node, rest: trs, channels: [None; 3] });
+                    animated.push(Animated { node: channel.node, rest: trs, channels: vec![None; 3] });
                     slot_of[channel.node] = Some(animated.len() - 1);
                     animated.len() - 1
                 }
             };
-            animated[a].channels[channel.property.slot()].get_or_insert(c);
+            let slots = &mut animated[a].channels;
+            let slot = channel.property.slot();
+            if slots.len() <= slot {
+                slots.resize(slot + 1, None);
+            }
+            slots[slot].get_or_insert(c);
         }
         let duration = channels.iter().map(Channel::end).fold(0.0, f32::max);
         Ok(Self { rig, channels, rest, animated, duration })
@@ -425,10 +585,25 @@ impl SceneAnimation {
     /// The scene's world-space part at `t` seconds (see [`Rig::flatten`]).
     pub(in crate::scene) fn flatten_at(&self, t: f32) -> Result<Flat, String> {
         let mut locals = self.rest.clone();
+        let mut weights: Vec<Option<Vec<f32>>> = Vec::new();
         for a in &self.animated {
-            let (translation, rotation, scale) = self.trs(a, t);
-            locals[a.node] = Affine3A::from_scale_rotation_translation(scale, rotation, translation);
+            if a.channels[..3].iter().any(Option::is_some) {
+                let (translation, rotation, scale) = self.trs(a, t);
+                locals[a.node] = Affine3A::from_scale_rotation_translation(scale, rotation, translation);
+            }
+            if a.channels.len() > 3 {
+                let mut w = self.rig.nodes[a.node].weights.clone();
+                for (g, c) in a.channels[3..].iter().enumerate() {
+                    let Some(c) = c else { continue };
+                    let v = self.channels[*c].sample(t).to_array();
+                    for (slot, value) in w.iter_mut().skip(4 * g).zip(v) {
+                        *slot = value;
+                    }
+                }
+                weights.resize(self.rig.nodes.len(), None);
+                weights[a.node] = Some(w);
+            }
         }
-        self.rig.flatten(&locals)
+        self.rig.flatten(&locals, &weights)
     }
 }

@@ -135,7 +135,7 @@ fn scene_gltf_textures_sources_and_samplers() {
     for needle in [
         "image 3 ('missing.png') (used by material 'b', emissive texture): cannot read",
         "image 4 ('Broken')",
-        "not a PNG, JPEG or TIFF",
+        "not a PNG, JPEG, TIFF or WebP",
         "image 5 ('nothing')",
         "neither a uri nor a bufferView",
         "material 'b': textures of these extensions are not supported (their factors apply): \

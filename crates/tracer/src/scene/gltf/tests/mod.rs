@@ -457,13 +457,13 @@ fn scene_gltf_errors_name_file_and_problem() {
     );
 
     let mut required: Value = serde_json::from_slice(&text).unwrap();
-    required["extensionsRequired"] = json!(["EXT_meshopt_compression"]);
-    required["extensionsUsed"] = json!(["EXT_meshopt_compression"]);
+    required["extensionsRequired"] = json!(["KHR_draco_mesh_compression"]);
+    required["extensionsUsed"] = json!(["KHR_draco_mesh_compression"]);
     expect_error(
         &dir,
         "required.gltf",
         &serde_json::to_vec(&required).unwrap(),
-        &["EXT_meshopt_compression"],
+        &["KHR_draco_mesh_compression"],
     );
 
     let triangle = |indices: &[u16], positions: &[[f32; 3]]| {
