@@ -58,6 +58,34 @@ fn header(path: &Path) -> BTreeMap<String, String> {
     read_exr(path).unwrap_or_else(|e| panic!("{}: {e}", path.display())).metadata
 }
 
+/// Item 10: `--frames 5..12` meant 5..=11 without a word. `A..B` is refused with both readings;
+/// `A..=B` and one frame `F`, what the help documents, are taken.
+#[test]
+fn frame_ranges_mean_what_the_help_says() {
+    let dir = Scratch::new("week-frames");
+    let collage = views_and_collage(&dir);
+    let (key, views, lens) = (format!("0={collage}"), dir.s("views"), dir.s("lens"));
+    let keys = |frames: &str| {
+        mcctrace(&["keys", "--key", &key, "--rays", &views, "--frames", frames, "-q", "--out", &lens])
+    };
+    let message = format!("{:#}", keys("5..12").unwrap_err());
+    for want in ["--frames", "'5..12' is ambiguous", "5..=12 to include frame 12", "5..=11 to stop before it"]
+    {
+        assert!(message.contains(want), "{want:?} not in {message}");
+    }
+    assert!(!dir.path("lens").exists(), "a refused range wrote frames");
+    keys("5..=6").unwrap();
+    keys("9").unwrap();
+    let written: Vec<String> = std::fs::read_dir(dir.path("lens"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    for f in [5, 6, 9] {
+        assert!(written.contains(&format!("rerender-frame{f:04}.mcr")), "{written:?}");
+    }
+    assert!(!written.iter().any(|n| n.contains("frame0007") || n.contains("frame0008")), "{written:?}");
+}
+
 /// Item 12: the demo wrote `collage-mask.png` (and the animation `keyFFFF-mask.png` and key 0's
 /// regions) without listing them. Every file it writes at the top of its folder is listed.
 #[test]

@@ -434,6 +434,12 @@ pub(crate) fn mcc_cases(add: &mut impl FnMut(Case)) {
         .views()
         .args("--tag-bits 9")
         .fails(&["9 bits per channel: must be 1 to 8"]));
+    // `A..B` once meant A..=B-1 without a word (issue 41, item 10).
+    add(Case::new(g, "cli-frames-exclusive-range")
+        .views()
+        .file("collage.png", collage_png(W, H))
+        .args("keys --key 0={dir}/collage.png --rays {dir}/views --frames 5..12 -q --out {out}/lens")
+        .fails(&["'--frames <A..=B>'", "'5..12' is ambiguous", "5..=12 to include frame 12", "5..=11"]));
     add(Case::new(g, "cli-remap-no-rays")
         .file("collage.png", collage_png(W, H))
         .args("remap --collage {dir}/collage.png --out {out}/r.mcr -q")

@@ -46,7 +46,8 @@ pub struct AnimateArgs {
     /// `keys` or `rerender` write them.
     #[arg(long)]
     pub lens_dir: PathBuf,
-    /// Frames to render, FIRST..=LAST (any sub-range of the shot; finished frames are skipped).
+    /// Frames to render, FIRST..=LAST (both included) or one frame F (any sub-range of the
+    /// shot; finished frames are skipped).
     #[arg(long, value_name = "A..=B")]
     pub frames: FrameRange,
     /// Output directory: frameFFFF.exr and frameFFFF.png per frame, and the preview.
