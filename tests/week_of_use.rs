@@ -58,6 +58,33 @@ fn header(path: &Path) -> BTreeMap<String, String> {
     read_exr(path).unwrap_or_else(|e| panic!("{}: {e}", path.display())).metadata
 }
 
+/// Item 2: `rerender` saved its rays as `rerender-frameFFFF.mcr` beside `--out`, replacing a
+/// `remap --seamless` file of that name. Its rays are named after `--out` now.
+#[test]
+fn rerender_leaves_a_ray_file_it_did_not_make() {
+    let dir = Scratch::new("week-rerender-rays");
+    let collage = views_and_collage(&dir);
+    let views = dir.s("views");
+    let seamless = dir.s("out/rerender-frame0000.mcr");
+    mcctrace(&["remap", "--collage", &collage, "--rays", &views, "--seamless", "-q", "--out", &seamless])
+        .unwrap();
+    let before = std::fs::read(&seamless).unwrap();
+    let column = dir.s("column.mcr");
+    mcctrace(&["remap", "--collage", &collage, "--rays", &views, "-q", "--out", &column]).unwrap();
+    let (scene, _) = cornell();
+    let out = dir.s("out/final.exr");
+    let quick = ["--spp", "1", "--max-depth", "2", "--threads", "2", "-q"];
+    mcctrace(
+        &[&["rerender", &scene, "--collage", &collage, "--rays", &views][..], &quick, &["--out", &out]]
+            .concat(),
+    )
+    .unwrap();
+    assert_eq!(std::fs::read(&seamless).unwrap(), before, "rerender replaced the seamless ray file");
+    let saved = mcc::RayFile::read(&dir.path("out/final.mcr")).expect("the rays named after --out");
+    assert_eq!(saved.rays, mcc::RayFile::read(Path::new(&column)).unwrap().rays);
+    assert_ne!(std::fs::read(dir.path("out/final.mcr")).unwrap(), before);
+}
+
 /// Item 10: `--frames 5..12` meant 5..=11 without a word. `A..B` is refused with both readings;
 /// `A..=B` and one frame `F`, what the help documents, are taken.
 #[test]

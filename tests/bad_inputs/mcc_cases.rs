@@ -194,7 +194,7 @@ pub(crate) fn mcc_cases(add: &mut impl FnMut(Case)) {
         .corpus("gltf/ok-triangle.gltf")
         .file("collage.png", collage_png(W, H))
         .args("rerender {dir}/ok-triangle.gltf --collage {dir}/collage.png --rays {dir}/views --spp 1 --threads 1 -q --out {out}/final.exr")
-        .succeeds(&["out/final.exr", "out/final.png", "out/rerender-frame0000.mcr"]));
+        .succeeds(&["out/final.exr", "out/final.png", "out/final.mcr"]));
 
     // ---- absurd sizes: refused before allocating (memory-checked) ---------------------------
     let g = "absurd size";
