@@ -85,6 +85,58 @@ fn rerender_leaves_a_ray_file_it_did_not_make() {
     assert_ne!(std::fs::read(dir.path("out/final.mcr")).unwrap(), before);
 }
 
+/// Item 3: `animate --shutter` rendered the last frame sharp (no next frame's rays to blend)
+/// while its header recorded the shutter. Now one warning names the frame and the header says
+/// what the blur did; a second run finds both frames finished.
+#[test]
+fn a_shutter_without_the_next_rays_says_so() {
+    let dir = Scratch::new("week-shutter");
+    render_views(&dir, "views", false);
+    let (lens, frames) = (dir.s("lens"), dir.s("frames"));
+    let (k0, k1) = (
+        format!("0={}", dir.s("views/frame0000camera01.mcr")),
+        format!("1={}", dir.s("views/frame0000camera02.mcr")),
+    );
+    mcctrace(&["inbetween", "--key", &k0, "--key", &k1, "--frames", "0..=1", "-q", "--out", &lens]).unwrap();
+    let (scene, _) = cornell();
+    let args = [
+        "animate",
+        &scene,
+        "--lens-dir",
+        &lens,
+        "--frames",
+        "0..=1",
+        "--shutter",
+        "0..0.5",
+        "--spp",
+        "1",
+        "--max-depth",
+        "2",
+        "--threads",
+        "2",
+        "--preview",
+        "none",
+        "--out",
+        &frames,
+    ];
+    let run = child::run(&args);
+    assert!(run.ok, "{run:?}");
+    let warnings: Vec<&str> = run.stderr.lines().filter(|l| l.starts_with("warning:")).collect();
+    assert_eq!(warnings.len(), 1, "{}", run.stderr);
+    for want in
+        ["--shutter 0..0.5", "frame 1 has no next frame's ray file", "rerender-frame0002.mcr", "sharp"]
+    {
+        assert!(warnings[0].contains(want), "{want:?} not in {}", warnings[0]);
+    }
+    let (h0, h1) = (header(&dir.path("frames/frame0000.exr")), header(&dir.path("frames/frame0001.exr")));
+    assert_eq!(h0["mcctrace/ray_blur"], "frames 0 and 1");
+    assert!(h1["mcctrace/ray_blur"].starts_with("none: no ray file for frame 2"), "{h1:?}");
+    assert_eq!(h1["mcctrace/shutter"], "0..0.5");
+    let again = child::run(&args);
+    assert!(again.ok && again.stderr.contains("2 of 2 frames already finished"), "{again:?}");
+    assert!(!again.stderr.contains("warning:"), "{}", again.stderr);
+}
+
 /// Item 10: `--frames 5..12` meant 5..=11 without a word. `A..B` is refused with both readings;
 /// `A..=B` and one frame `F`, what the help documents, are taken.
 #[test]
