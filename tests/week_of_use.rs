@@ -137,6 +137,32 @@ fn a_shutter_without_the_next_rays_says_so() {
     assert!(!again.stderr.contains("warning:"), "{}", again.stderr);
 }
 
+/// Item 4: a visible layer hidden under an opaque one, and a collage with no background pixel,
+/// went without a word. The unedited `render --layers` file is both: its top view covers all.
+#[test]
+fn a_layer_that_takes_no_pixel_is_named() {
+    let dir = Scratch::new("week-hidden-layer");
+    render_views(&dir, "views", true);
+    let args =
+        ["remap", "--collage", &dir.s("views.ora"), "--rays", &dir.s("views"), "--out", &dir.s("r.mcr")];
+    let run = child::run(&args);
+    assert!(run.ok, "{run:?}");
+    let said = |want: &[&str]| {
+        assert!(
+            run.stderr.lines().any(|l| l.starts_with("warning:") && want.iter().all(|w| l.contains(w))),
+            "no warning with {want:?}:\n{}",
+            run.stderr
+        )
+    };
+    said(&[
+        "layer \"corner (camera 2)\" is visible",
+        "(\"cornell (camera 1)\") cover every pixel",
+        "takes no pixel",
+    ]);
+    said(&["layer \"background\" is visible", "takes no pixel"]);
+    said(&["views.ora", "has no background pixel", "nothing is blended"]);
+}
+
 /// Item 10: `--frames 5..12` meant 5..=11 without a word. `A..B` is refused with both readings;
 /// `A..=B` and one frame `F`, what the help documents, are taken.
 #[test]

@@ -89,6 +89,9 @@ impl CollageFiles {
             first.push(RemapWarning::StraysIgnored(opened.strays));
         }
         first.extend(opened.notes.into_iter().map(RemapWarning::Layers));
+        if !opened.collage.ids.contains(&0) {
+            first.push(RemapWarning::NoBackground);
+        }
         output.warnings.splice(0..0, first);
         Ok((output, opened.regions_from))
     }
