@@ -163,6 +163,42 @@ fn a_layer_that_takes_no_pixel_is_named() {
     said(&["views.ora", "has no background pixel", "nothing is blended"]);
 }
 
+/// Item 8: an untagged picture, a JPEG or a resampled collage got a list of 61 camera ids and
+/// advice about tag widths and views to render. Now two lines say what the file is and how to
+/// make a collage that works.
+#[test]
+fn an_untagged_jpeg_or_resampled_collage_says_what_it_is() {
+    let dir = Scratch::new("week-untagged");
+    render_views(&dir, "views", true);
+    render_views(&dir, "plain", false);
+    let tagged = image::open(dir.path("views/frame0000camera01.png")).unwrap();
+    tagged.to_rgb8().save_with_format(dir.path("collage.jpg"), image::ImageFormat::Jpeg).unwrap();
+    let small = tagged.resize_exact(30, 18, image::imageops::FilterType::Triangle);
+    DynamicImage::ImageRgb8(small.to_rgb8()).save(dir.path("resampled.png")).unwrap();
+    let views = dir.s("views");
+    for (collage, cause) in [
+        (dir.s("plain/frame0000camera01.png"), "carry no camera tags"),
+        (dir.s("collage.jpg"), "is a JPEG"),
+        (dir.s("resampled.png"), "is 30x18 but the views are 40x24: it was resampled"),
+    ] {
+        let err =
+            mcctrace(&["remap", "--collage", &collage, "--rays", &views, "-q", "--out", &dir.s("r.mcr")])
+                .unwrap_err();
+        let message = format!("{err:#}");
+        let lines: Vec<&str> = message.lines().collect();
+        assert_eq!(lines.len(), 2, "{message}");
+        assert!(lines[0].contains(&collage) && lines[0].contains(cause), "{message}");
+        assert!(lines[1].contains("`render --tag`") && lines[1].contains("hard-edged"), "{message}");
+        assert!(lines[1].contains(".ora or .psd") && lines[1].contains("`render --layers`"), "{message}");
+        // At most a few ids listed (`mcc::collage::LISTED_IDS`), not 61.
+        assert!(message.matches('×').count() <= 4, "{message}");
+        for misleading in ["--tag-bits", "cover whole areas", "render their views"] {
+            assert!(!message.contains(misleading), "{misleading:?} in {message}");
+        }
+    }
+    assert!(!dir.path("r.mcr").exists());
+}
+
 /// Item 10: `--frames 5..12` meant 5..=11 without a word. `A..B` is refused with both readings;
 /// `A..=B` and one frame `F`, what the help documents, are taken.
 #[test]

@@ -143,6 +143,26 @@ pub(crate) fn mcc_cases(add: &mut impl FnMut(Case)) {
         "ids with no ray file: 5 ×4",
         "first at (6, 0)",
     ]));
+    // No tags at all (issue 41, item 8): said in two lines, with what works instead, not as a
+    // list of every id the noise decodes to.
+    let untagged_advice = "Cut the collage from the tagged PNGs of `render --tag` with hard-edged selections";
+    add(remap(g, "collage-untagged", untagged_png(W, H)).views().fails(&[
+        "collage.png",
+        "non-background pixels name no camera with a ray file",
+        "its pixels carry no camera tags",
+        untagged_advice,
+        "(.ora or .psd, as `render --layers` writes it",
+    ]));
+    add(Case::new(g, "collage-jpeg")
+        .views()
+        .file("collage.jpg", untagged_jpeg(W, H))
+        .args("remap --collage {dir}/collage.jpg --rays {dir}/views --out {out}/rerender-frame0000.mcr -q")
+        .fails(&["collage.jpg", "the collage is a JPEG", untagged_advice]));
+    add(remap(g, "collage-resampled", untagged_png(10, H)).views().fails(&[
+        "collage.png",
+        "the collage is 10x6 but the views are 8x6: it was resampled",
+        untagged_advice,
+    ]));
     add(remap(g, "collage-wrong-size", collage_png(10, H))
         .views()
         .fails(&["frame0000camera01.txt", "ray file is 8x6, but the collage is 10x6"]));
