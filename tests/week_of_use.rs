@@ -227,6 +227,75 @@ fn frame_ranges_mean_what_the_help_says() {
     assert!(!written.iter().any(|n| n.contains("frame0007") || n.contains("frame0008")), "{written:?}");
 }
 
+/// Item 11: `--camera` was a 0-based index in `render`, a name in `studio`, a number from 1 in
+/// `tag`; `tag` spelled the tag width `--bits`. One rule now: a camera's name or its number from
+/// 1, as views are numbered; `--camera 0` is refused, saying so; old spellings are aliases.
+#[test]
+fn cameras_are_numbered_from_one_everywhere() {
+    let dir = Scratch::new("week-camera-numbers");
+    let (scene, cameras) = cornell();
+    let render = |camera: &str, out: &str| {
+        mcctrace(&[
+            "render",
+            &scene,
+            "--cameras-file",
+            &cameras,
+            "--camera",
+            camera,
+            "--res",
+            "8x6",
+            "--spp",
+            "1",
+            "-q",
+            "--out",
+            out,
+        ])
+    };
+    for (number, name) in [("1", "cornell"), ("2", "corner")] {
+        let out = dir.s(&format!("camera{number}.exr"));
+        render(number, &out).unwrap();
+        assert_eq!(header(Path::new(&out))["mcctrace/camera"], name);
+    }
+    let message = format!("{:#}", render("0", &dir.s("zero.exr")).unwrap_err());
+    for want in ["--camera 0", "numbered from 1", "--camera 1", "1 'cornell', 2 'corner'"] {
+        assert!(message.contains(want), "{want:?} not in {message}");
+    }
+    let message = format!("{:#}", render("3", &dir.s("three.exr")).unwrap_err());
+    assert!(message.contains("no camera number 3") && message.contains("1 'cornell'"), "{message}");
+    assert!(!dir.path("zero.exr").exists() && !dir.path("three.exr").exists());
+
+    // `tag` takes --tag-bits as every other command does, and still --bits.
+    render("1", &dir.s("view.exr")).unwrap();
+    for flag in ["--tag-bits", "--bits"] {
+        let out = dir.s(&format!("tagged{flag}.png"));
+        mcctrace(&["tag", &dir.s("view.png"), "--camera", "9", flag, "3", "--out", &out]).unwrap();
+        let tagged = image::open(&out).unwrap().to_rgb8();
+        let code = mcc::TagCode::new(3).unwrap();
+        assert!(tagged.pixels().filter(|p| p.0 != [0, 0, 0]).all(|p| code.decode(p.0) == 9));
+    }
+
+    // Help texts speak of their own command and say each default once.
+    let help = |command: &str| {
+        let run = child::run(&[command, "--help"]);
+        assert!(run.ok, "{run:?}");
+        run.stdout
+    };
+    for command in ["rerender", "animate"] {
+        let text = help(command);
+        let res = text.split("--res <WxH>").nth(1).expect("--res in the help");
+        let res = &res[..res.find("\n      --").unwrap_or(res.len())];
+        assert!(!res.contains("`rerender`") && !res.contains("640x360"), "{command} --res: {res}");
+        assert!(res.contains("the size after the crop"), "{command} --res: {res}");
+    }
+    let studio = help("studio");
+    assert!(!studio.contains("(default: any free port)"), "{studio}");
+    assert!(studio.contains("0 takes any free port"), "{studio}");
+    assert!(studio.contains("(.ora)") && studio.contains("(.psd)"), "{studio}");
+    assert!(studio.contains("--camera <NAME|NUMBER>"), "{studio}");
+    assert!(help("render").contains("--camera <NAME|NUMBER>"));
+    assert!(help("tag").contains("--tag-bits <B>") && help("tag").contains("--bits"));
+}
+
 /// Item 12: the demo wrote `collage-mask.png` (and the animation `keyFFFF-mask.png` and key 0's
 /// regions) without listing them. Every file it writes at the top of its folder is listed.
 #[test]

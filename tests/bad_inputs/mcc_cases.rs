@@ -344,13 +344,21 @@ pub(crate) fn mcc_cases(add: &mut impl FnMut(Case)) {
     add(triangle("cli-unknown-camera", "--camera back").fails(&[
         "ok-triangle.gltf",
         "no camera named 'back'",
-        "the scene has 1 camera: 0 'front'",
+        "the scene has 1 camera: 1 'front'",
     ]));
-    add(triangle("cli-camera-index-out-of-range", "--camera 3").fails(&[
+    add(triangle("cli-camera-number-out-of-range", "--camera 3").fails(&[
         "ok-triangle.gltf",
-        "no camera at index 3",
-        "0 'front'",
+        "no camera number 3",
+        "1 'front'",
     ]));
+    // Cameras are numbered from 1, as views are (issue 41, item 11): 0 was the first camera
+    // once, so it is refused rather than read as another.
+    add(triangle("cli-camera-0", "--camera 0").fails(&[
+        "--camera 0: cameras are numbered from 1",
+        "the first camera is --camera 1",
+        "ok-triangle.gltf has 1 camera: 1 'front'",
+    ]));
+    add(triangle("cli-camera-number-1", "--camera 1").succeeds(RENDER_OUTPUTS));
     add(triangle("cli-fov-on-scene-camera", "--fov 30").fails(&["--fov applies to ad-hoc cameras"]));
     add(triangle("cli-first-id-0", "--first-id 0").fails(&["--first-id must be at least 1"]));
     add(triangle("cli-tag-first-id-64", "--tag --first-id 64")
@@ -374,7 +382,7 @@ pub(crate) fn mcc_cases(add: &mut impl FnMut(Case)) {
         .args(&format!("render {{dir}}/ok-triangle.obj {QUICK} -q --out {{out}}/render.exr"))
         .fails(&[
             "ok-triangle.obj",
-            "no camera at index 0",
+            "no camera number 1 (index 0)",
             "no cameras (give one with --look-from/--look-at",
         ]));
     let tagger = |name: &str, extra: &str| {
@@ -384,6 +392,7 @@ pub(crate) fn mcc_cases(add: &mut impl FnMut(Case)) {
     };
     add(tagger("cli-tag-control", "--camera 9").succeeds(&["out/tagged.png"]));
     add(tagger("cli-tag-camera-0", "--camera 0").fails(&["camera id 0 is reserved for 'no camera'"]));
+    add(tagger("cli-tag-tag-bits", "--camera 9 --tag-bits 3").succeeds(&["out/tagged.png"]));
     add(tagger("cli-tag-camera-64-2-bits", "--camera 64 --bits 2")
         .fails(&["camera id 64 does not fit in 2 bits per channel (ids 1 … 63)"]));
     add(tagger("cli-tagger-bits-9", "--camera 3 --bits 9").fails(&["9 bits per channel: must be 1 to 8"]));

@@ -37,8 +37,12 @@ pub enum PreviewArg {
     None,
 }
 
+/// `--res` as `animate` reads it (the shared help speaks of a camera's picture).
+const RES_HELP: &str = "Output resolution (default: the ray files'; with --crop N, the size after the crop)";
+
 /// Arguments of `mcctrace animate`.
 #[derive(Args, Debug)]
+#[command(mut_arg("res", |a| a.help(RES_HELP)))]
 pub struct AnimateArgs {
     /// Scene file (.gltf, .glb, .obj) or a directory of .obj files.
     pub scene: PathBuf,

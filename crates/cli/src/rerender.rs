@@ -17,6 +17,7 @@ use tracer::job::{Band, SceneSetup, Stale};
 
 /// Arguments of `mcctrace rerender`.
 #[derive(Args, Debug)]
+#[command(mut_arg("res", |a| a.help(RES_HELP)))]
 pub struct RerenderArgs {
     /// Scene file (.gltf, .glb, .obj) or a directory of .obj files.
     pub scene: PathBuf,
@@ -52,6 +53,9 @@ pub struct RerenderArgs {
     #[command(flatten)]
     pub quality: QualityArgs,
 }
+
+/// `--res` as `rerender` reads it (the shared help speaks of a camera's picture).
+const RES_HELP: &str = "Output resolution (default: the collage's, or the --lens file's; with --crop N, the size after the crop)";
 
 /// Renders `scene` (posed at the job's frame at `fps` frames per second) through the job's
 /// rays into `out` and its PNG beside it, whose path it returns (a band: into its band file,
