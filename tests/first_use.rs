@@ -88,7 +88,7 @@ fn an_overscanned_shot_finishes_inside_the_tool() {
     assert_eq!(header["mcctrace/collage"], collage);
     assert_eq!(header["mcctrace/adaptive"], "true");
     assert!(header.contains_key("mcctrace/rr_depth") && header["mcctrace/shutter"] == "0..0", "{header:?}");
-    let rays = dir.s("rerender/rerender-frame0000.mcr");
+    let rays = dir.s("rerender/final.mcr");
     let out = dir.s("lens-file/final.exr");
     mcctrace(
         &[&["rerender", CORNELL, "--lens", &rays, "--crop", &border][..], &quick, &["--out", &out]].concat(),

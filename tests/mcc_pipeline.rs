@@ -98,7 +98,7 @@ fn one_camera_collage_is_that_camera() {
     let (mean, variance) = rerender(&dir, &mask, 64, 0, "one");
 
     // Exactly camera 1's rays at every pixel centre.
-    let remapped = mcc::RayFile::read(&dir.path("final-one/rerender-frame0000.mcr")).unwrap();
+    let remapped = mcc::RayFile::read(&dir.path("final-one/final.mcr")).unwrap();
     let source = mcc::RayFile::read(&dir.path("views/frame0000camera01.mcr")).unwrap();
     assert_eq!(remapped.rays.len(), source.rays.len());
     for (a, b) in remapped.rays.iter().zip(&source.rays) {

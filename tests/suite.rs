@@ -29,6 +29,7 @@ mod seamless_blend;
 mod stress;
 mod stress_mcc;
 mod studio;
+mod week_of_use;
 
 /// The test binaries' roots: this one, and `page`, the browser test that must run alone
 /// (tests/page.rs).

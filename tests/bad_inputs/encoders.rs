@@ -116,6 +116,27 @@ pub(crate) fn collage_png(width: u32, height: u32) -> Vec<u8> {
     png(width, height, 2, 8, &rgb)
 }
 
+/// A `width × height` picture whose low bits are noise, as an untagged render's are: no pixel
+/// black (none is background), the ids they decode to spread over the whole tag code.
+pub(crate) fn untagged_png(width: u32, height: u32) -> Vec<u8> {
+    let mut state = 2_654_435_769u32;
+    let rgb: Vec<u8> = (0..width * height * 3)
+        .map(|_| {
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (state >> 24) as u8 | 0x40
+        })
+        .collect();
+    png(width, height, 2, 8, &rgb)
+}
+
+/// [`untagged_png`] saved as a JPEG (by the `image` crate's encoder, quality 90).
+pub(crate) fn untagged_jpeg(width: u32, height: u32) -> Vec<u8> {
+    let picture = mcc::image::load_from_memory(&untagged_png(width, height)).expect("decode the PNG");
+    let mut out = std::io::Cursor::new(Vec::new());
+    picture.to_rgb8().write_to(&mut out, mcc::image::ImageFormat::Jpeg).expect("encode a JPEG");
+    out.into_inner()
+}
+
 /// The good collage with column 4 blended half-way between camera 1 and the background, as an
 /// antialiased selection edge leaves it: 6 pixels whose low bits name no camera with a ray file.
 pub(crate) fn antialiased_png() -> Vec<u8> {

@@ -67,6 +67,15 @@ pub(crate) fn scene_cases(add: &mut impl FnMut(Case)) {
         .fails(&["version-1.gltf", "glTF version 1.0 is not supported"]));
     add(render(g, "gltf-required-extension", "gltf/required-draco.gltf")
         .fails(&["required-draco.gltf", "requires extension KHR_draco_mesh_compression"]));
+    // Draco listed only as used: its accessors have no data of their own, which was refused
+    // as "all-zero accessors" without naming Draco (issue 41, item 9).
+    add(render(g, "gltf-draco-used-only", "gltf/draco-used-only.gltf").fails(&[
+        "draco-used-only.gltf",
+        "accessor 0",
+        "compressed with Draco (KHR_draco_mesh_compression",
+        "no Draco decoder",
+        "without Draco mesh compression",
+    ]));
     add(render(g, "gltf-camera-without-projection", "gltf/camera-without-projection.gltf")
         .fails(&["camera-without-projection.gltf", "lacks the projection object"]));
     add(render(g, "gltf-node-cycle", "gltf/node-cycle.gltf")

@@ -3,6 +3,7 @@
 //! planes), a seeded random generator, and small image utilities. Each test file uses a subset.
 #![allow(dead_code)]
 
+pub mod child;
 pub mod external;
 pub mod golden;
 

@@ -37,8 +37,12 @@ pub enum PreviewArg {
     None,
 }
 
+/// `--res` as `animate` reads it (the shared help speaks of a camera's picture).
+const RES_HELP: &str = "Output resolution (default: the ray files'; with --crop N, the size after the crop)";
+
 /// Arguments of `mcctrace animate`.
 #[derive(Args, Debug)]
+#[command(mut_arg("res", |a| a.help(RES_HELP)))]
 pub struct AnimateArgs {
     /// Scene file (.gltf, .glb, .obj) or a directory of .obj files.
     pub scene: PathBuf,
@@ -46,7 +50,8 @@ pub struct AnimateArgs {
     /// `keys` or `rerender` write them.
     #[arg(long)]
     pub lens_dir: PathBuf,
-    /// Frames to render, FIRST..=LAST (any sub-range of the shot; finished frames are skipped).
+    /// Frames to render, FIRST..=LAST (both included) or one frame F (any sub-range of the
+    /// shot; finished frames are skipped).
     #[arg(long, value_name = "A..=B")]
     pub frames: FrameRange,
     /// Output directory: frameFFFF.exr and frameFFFF.png per frame, and the preview.
@@ -76,6 +81,9 @@ pub struct AnimateArgs {
     #[command(flatten)]
     pub quality: QualityArgs,
 }
+
+/// The header key recording what the camera-ray blur did to a frame (with `--shutter` only).
+const RAY_BLUR_KEY: &str = "mcctrace/ray_blur";
 
 /// What the EXR header names as the camera of an animated frame.
 const ANIMATED: &str = "multicamera collage (animated)";
@@ -139,8 +147,25 @@ impl<'a> Shot<'a> {
         self.shutter.1 > self.shutter.0
     }
 
-    /// The header of `frame`, its rays' hash being `digest`.
-    fn info<'b>(&'b self, frame: u32, digest: &'b str) -> RenderInfo<'b> {
+    /// What the header records of the camera-ray blur of `rays`' frame: nothing without a
+    /// shutter; else the two frames blended, or that there was no next frame to blend.
+    fn ray_blur(&self, rays: &FrameRays) -> Vec<(&'static str, String)> {
+        if !self.motion_blur() {
+            return Vec::new();
+        }
+        let f = rays.frame;
+        let what = match &rays.next {
+            Some(_) => format!("frames {f} and {}", f + 1),
+            None => format!(
+                "none: no ray file for frame {}, so frame {f}'s rays hold over the shutter",
+                f as u64 + 1
+            ),
+        };
+        vec![(RAY_BLUR_KEY, what)]
+    }
+
+    /// The header of `frame`, its rays' hash being `digest` and its blur `extra`.
+    fn info<'b>(&'b self, frame: u32, digest: &'b str, extra: &'b [(&'b str, String)]) -> RenderInfo<'b> {
         let provenance = Provenance {
             projection: None,
             environment_map: self.setup.environment_image.as_ref(),
@@ -152,6 +177,7 @@ impl<'a> Shot<'a> {
             provenance,
             setup: Some(&self.setup),
             crop: self.a.crop,
+            extra,
             ..RenderInfo::new(&self.a.scene, ANIMATED, frame, &self.quality)
         }
     }
@@ -169,8 +195,9 @@ impl<'a> Shot<'a> {
         if !exr.is_file() {
             return Ok(Err(Stale::Missing(exr)));
         }
-        let digest = self.rays(frame, None)?.digest();
-        let settings = self.info(frame, &digest).settings();
+        let rays = self.rays(frame, None)?;
+        let (digest, blur) = (rays.digest(), self.ray_blur(&rays));
+        let settings = self.info(frame, &digest, &blur).settings();
         Ok(check_finished(&exr, Some(&exr.with_extension("png")), &settings, self.framing.output()))
     }
 }
@@ -217,10 +244,15 @@ pub fn animate(a: &AnimateArgs) -> anyhow::Result<AnimateReport> {
         let bar = ShotBar::new(todo.len() as u64, q.quiet);
         let bars = bar.frame_bars();
         let mut earlier: Option<FrameRays> = None;
+        // Frames the shutter asked to blur that have no next frame's rays to blend with.
+        let mut sharp = Vec::new();
         for &frame in &todo {
             // Read once: hashed for the header and handed to the lens reader, which reads nothing.
             let rays = shot.rays(frame, earlier.as_ref())?;
-            let digest = rays.digest();
+            let (digest, blur) = (rays.digest(), shot.ray_blur(&rays));
+            if shot.motion_blur() && rays.next.is_none() {
+                sharp.push(frame);
+            }
             let reader = mcc::LensReader::new(mcc::lens_reader::RaySource::Directory(a.lens_dir.clone()))
                 .with_motion_blur(shot.motion_blur())
                 .with_frame(frame, rays.current.clone(), rays.next.clone());
@@ -253,15 +285,42 @@ pub fn animate(a: &AnimateArgs) -> anyhow::Result<AnimateReport> {
             let rendered = framing.crop(rendered);
             warn_nonfinite(&name, &rendered);
             let exr = frame_exr(&a.out, frame);
-            write_render(&exr, &rendered, &shot.info(frame, &digest))?;
+            write_render(&exr, &rendered, &shot.info(frame, &digest, &blur))?;
             earlier = Some(rays);
             bar.frame_done(&summary(&name, q.spp, &rendered, &exr));
             report.rendered.push(frame);
         }
         bar.finish();
+        if let Some(w) = sharp_warning(a, &sharp) {
+            eprintln!("warning: {w}");
+        }
     }
     report.preview = preview(a)?;
     Ok(report)
+}
+
+/// The one warning of a run whose `--shutter` found no next frame's rays for `sharp` frames
+/// (typically the shot's last): they are rendered sharp, and their headers say so.
+fn sharp_warning(a: &AnimateArgs, sharp: &[u32]) -> Option<String> {
+    let (&first, shutter) = (sharp.first()?, a.shutter?);
+    let frames = match sharp {
+        [one] => format!("frame {one} has"),
+        _ => {
+            let listed: Vec<String> = sharp.iter().take(4).map(u32::to_string).collect();
+            let more = if sharp.len() > 4 { format!(" and {} more", sharp.len() - 4) } else { String::new() };
+            format!("frames {}{more} have", listed.join(", "))
+        }
+    };
+    let next = first.saturating_add(1);
+    Some(format!(
+        "--shutter {}..{}: {frames} no next frame's ray file in {} (for frame {first}: {}), so the \
+         camera-ray blur has nothing to blend: rendered sharp, the header saying {RAY_BLUR_KEY} = none. \
+         To blur it, write the next frame's rays too (`keys` or `inbetween --frames …..={next}`)",
+        shutter.open,
+        shutter.close,
+        a.lens_dir.display(),
+        mcc::names::rerender_name(next, mcc::RayFormat::Binary),
+    ))
 }
 
 /// `--check`: every frame of the range by the resume rule; an error naming every frame that is

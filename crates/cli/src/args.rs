@@ -53,7 +53,8 @@ impl std::fmt::Display for Resolution {
     }
 }
 
-/// An inclusive range of frames written `A..=B` (or `A..B`, excluding B, or one frame `A`).
+/// An inclusive range of frames written `A..=B`, or one frame `A`. `A..B` is refused, naming
+/// both readings: a user writing `5..12` may mean frame 12 included or not.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct FrameRange {
     /// The first frame.
@@ -84,10 +85,12 @@ impl FromStr for FrameRange {
             (frame(a)?, frame(b)?)
         } else if let Some((a, b)) = s.split_once("..") {
             let (a, b) = (frame(a)?, frame(b)?);
-            if b <= a {
-                return Err(format!("'{s}' holds no frame (the end of A..B is excluded; A..=B includes it)"));
-            }
-            (a, b - 1)
+            let without =
+                if b > a { format!(" or {a}..={} to stop before it", b - 1) } else { String::new() };
+            return Err(format!(
+                "'{s}' is ambiguous: write {a}..={b} to include frame {b}{without} (FIRST..=LAST, both \
+                 included; or one frame F)"
+            ));
         } else {
             let f = frame(s)?;
             (f, f)
@@ -232,8 +235,10 @@ mod tests {
     fn frames_shutters_and_keys() {
         let r = |s: &str| s.parse::<FrameRange>().map(|r| (r.first, r.last));
         assert_eq!(r("0..=500"), Ok((0, 500)));
-        assert_eq!(r("3..7"), Ok((3, 6)));
         assert_eq!(r("12"), Ok((12, 12)));
+        // `A..B` once meant A..=B-1 without a word: now it is refused, naming both readings.
+        let e = r("5..12").unwrap_err();
+        assert!(e.contains("5..=12 to include frame 12") && e.contains("5..=11 to stop before it"), "{e}");
         assert!(r("5..=2").is_err());
         assert!(r("5..5").is_err());
         assert!(r("a..=2").is_err());

@@ -106,7 +106,7 @@ struct ShotArgs {
     /// `render --camera` names them: FRAME=CAMERA[,CAMERA…]. One per key.
     #[arg(long = "cameras", value_name = "FRAME=CAMERA[,CAMERA…]", required_unless_present = "bands")]
     cameras: Vec<KeyArg>,
-    /// The output frames, FIRST..=LAST.
+    /// The output frames, FIRST..=LAST (both included) or one frame F.
     #[arg(long, value_name = "A..=B", required_unless_present = "bands")]
     frames: Option<FrameRange>,
     /// Output frames per task.

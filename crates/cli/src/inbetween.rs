@@ -31,8 +31,8 @@ impl From<ModeArg> for InbetweenMode {
 /// Output settings shared by `inbetween` and `keys`.
 #[derive(Args, Debug, Clone)]
 pub struct InbetweenOutputArgs {
-    /// Frames to write, FIRST..=LAST (default: the first key's frame to the last key's). Frames
-    /// before the first key or after the last hold that key.
+    /// Frames to write, FIRST..=LAST (both included) or one frame F (default: the first key's
+    /// frame to the last key's). Frames before the first key or after the last hold that key.
     #[arg(long, value_name = "A..=B")]
     pub frames: Option<FrameRange>,
     /// Directory that receives rerender-frameFFFF.mcr (or .txt) per frame.

@@ -17,6 +17,7 @@ use tracer::job::{Band, SceneSetup, Stale};
 
 /// Arguments of `mcctrace rerender`.
 #[derive(Args, Debug)]
+#[command(mut_arg("res", |a| a.help(RES_HELP)))]
 pub struct RerenderArgs {
     /// Scene file (.gltf, .glb, .obj) or a directory of .obj files.
     pub scene: PathBuf,
@@ -36,8 +37,9 @@ pub struct RerenderArgs {
     /// then the size of what is left.
     #[arg(long, default_value_t = 0, value_name = "N")]
     pub crop: u32,
-    /// Output image (.exr; a PNG preview goes beside it). The remapped rays are saved beside it
-    /// too, as rerender-frameFFFF.mcr.
+    /// Output image NAME.exr; a PNG preview goes beside it as NAME.png, and the remapped rays
+    /// (unless --lens) as NAME.mcr (or NAME.txt), named after it so that no other file is
+    /// replaced (`--out lens/rerender-frame0005.exr` puts them where `animate` looks).
     #[arg(long)]
     pub out: PathBuf,
     /// Encoding of the saved ray file.
@@ -51,6 +53,9 @@ pub struct RerenderArgs {
     #[command(flatten)]
     pub quality: QualityArgs,
 }
+
+/// `--res` as `rerender` reads it (the shared help speaks of a camera's picture).
+const RES_HELP: &str = "Output resolution (default: the collage's, or the --lens file's; with --crop N, the size after the crop)";
 
 /// Renders `scene` (posed at the job's frame at `fps` frames per second) through the job's
 /// rays into `out` and its PNG beside it, whose path it returns (a band: into its band file,
@@ -79,6 +84,11 @@ pub fn render_through(
         eprintln!("{}", summary("rerender", job.quality.spp, &rendered, &job.target(out)));
     }
     Ok(written)
+}
+
+/// Where `rerender --out OUT` saves the remapped rays: OUT with the ray format's extension.
+pub fn rays_path(out: &Path, format: mcc::RayFormat) -> PathBuf {
+    out.with_extension(format.extension())
 }
 
 pub fn run(a: RerenderArgs) -> anyhow::Result<()> {
@@ -131,8 +141,9 @@ pub fn run(a: RerenderArgs) -> anyhow::Result<()> {
     // The remapped rays are saved only once the render has succeeded: a run that fails (a bad
     // --crop, --spp, scene …) leaves no output behind (docs/design.md §8).
     if let Some(remapped) = remapped {
-        let dir = a.out.parent().map(Path::to_path_buf).unwrap_or_default();
-        let saved = dir.join(mcc::names::rerender_name(a.frame, a.ray_format.into()));
+        // Named after --out, as the PNG is: a fixed name beside it (rerender-frameFFFF.mcr)
+        // replaced whatever lay there, e.g. a `remap --seamless` file of that name.
+        let saved = rays_path(&a.out, a.ray_format.into());
         remapped.write_rays(&saved, a.ray_format.into()).with_context(|| "saving the remapped rays")?;
         if !q.quiet {
             eprintln!("rays -> {}", saved.display());

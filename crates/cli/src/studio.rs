@@ -13,8 +13,9 @@ pub struct StudioArgs {
     /// A scene file (.gltf, .glb, .obj) to start a new project from, or a project folder a
     /// studio saved (it holds studio.json) to reopen.
     pub input: PathBuf,
-    /// A scene camera to paint with, by name (repeat; default: all the scene's cameras).
-    #[arg(long = "camera", value_name = "NAME")]
+    /// A scene camera to paint with, by name or by number counted from 1, as `render --camera`
+    /// takes it (repeat; default: all the scene's cameras).
+    #[arg(long = "camera", value_name = "NAME|NUMBER")]
     pub cameras: Vec<String>,
     /// Collage resolution.
     #[arg(long, default_value = "480x270")]
@@ -22,14 +23,15 @@ pub struct StudioArgs {
     /// The first key's frame.
     #[arg(long, default_value_t = 0)]
     pub frame: u32,
-    /// Start from an existing collage (a tagged image, e.g. cut in an editor; its region image
-    /// beside it is used too).
+    /// Start from an existing collage cut elsewhere: a tagged image, or a layered OpenRaster
+    /// (.ora) or Photoshop (.psd) file with a layer per camera, as `remap` takes it (a region
+    /// image beside it is used too).
     #[arg(long)]
     pub collage: Option<PathBuf>,
     /// The project folder saves go to (default: <scene-stem>-studio in the current folder).
     #[arg(long)]
     pub project: Option<PathBuf>,
-    /// Port to listen on (default: any free port).
+    /// Port to listen on; 0 takes any free port.
     #[arg(long, default_value_t = 0)]
     pub port: u16,
     /// Address to listen on. The default, 127.0.0.1, keeps the studio on this machine; any other

@@ -9,11 +9,14 @@ use std::path::PathBuf;
 pub struct TagArgs {
     /// The image to tag (8-bit PNG, RGB or RGBA).
     image: PathBuf,
-    /// Camera number to stamp (1 … 2^(3·bits) − 1).
-    #[arg(long)]
+    /// The view's number to stamp, counted from 1 as `render` numbers its views
+    /// (1 … 2^(3·B) − 1).
+    #[arg(long, value_name = "NUMBER")]
     camera: u32,
-    /// Bits per channel used for the tag.
-    #[arg(long, default_value_t = 2, value_parser = crate::args::tag_bits)]
+    /// Bits per channel of the camera tag, as `render --tag-bits` (and `remap --tag-bits`) take
+    /// it; `--bits` is the old spelling.
+    #[arg(long = "tag-bits", visible_alias = "bits", value_name = "B",
+          default_value_t = mcc::TagCode::DEFAULT_BITS, value_parser = crate::args::tag_bits)]
     bits: u8,
     /// The tagged PNG to write.
     #[arg(long)]

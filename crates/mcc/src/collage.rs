@@ -51,13 +51,26 @@ pub struct StrayHints {
     pub ignore: &'static str,
     /// What sets the tag width ([`TagCode`]), e.g. `--tag-bits`.
     pub tag_bits: &'static str,
+    /// What makes tagged views to cut a collage from, e.g. `render --tag`.
+    pub tagged_views: &'static str,
+    /// What makes the views as one layered file (no tags needed), e.g. `render --layers`.
+    pub layered_views: &'static str,
 }
 
 impl Default for StrayHints {
     fn default() -> Self {
-        Self { ignore: "the stray policy Background", tag_bits: "the tag width" }
+        Self {
+            ignore: "the stray policy Background",
+            tag_bits: "the tag width",
+            tagged_views: "the tagger",
+            layered_views: "the OpenRaster writer",
+        }
     }
 }
+
+/// How many ids with no ray file a report lists by name (the rest are counted): an untagged
+/// picture decodes to every id there is, and a list of 61 helps nobody.
+pub const LISTED_IDS: usize = 4;
 
 /// An unknown id with at least this many pixels is a solid block (a view without its ray file),
 /// not the noise an antialiased edge makes.
@@ -81,6 +94,14 @@ pub struct StrayReport {
     pub policy: StrayPolicy,
     /// How to name the settings the report suggests.
     pub hints: StrayHints,
+    /// Another tag width (bits per channel) at which nearly every non-background pixel names a
+    /// camera with a ray file: the views' tag width, when the one given was wrong.
+    pub fitting_bits: Option<u8>,
+    /// The collage is a JPEG, whose lossy compression rewrites the tag bits.
+    pub jpeg: bool,
+    /// The collage's size, and the views' when known and different: a collage with strays
+    /// and another size than its views was resampled.
+    pub resized: Option<((u32, u32), (u32, u32))>,
 }
 
 impl StrayReport {
@@ -119,7 +140,26 @@ impl StrayReport {
             foreground: 0,
             policy: options.strays,
             hints: options.hints,
+            fitting_bits: None,
+            jpeg: false,
+            resized: None,
         }
+    }
+
+    /// True when the pixels carry no tags at all: nearly all are strays and no other tag width
+    /// reads them (an untagged picture, a JPEG, a resampled collage).
+    pub fn untagged(&self) -> bool {
+        self.nearly_all() && self.fitting_bits.is_none()
+    }
+
+    /// The ids with no ray file, the most frequent [`LISTED_IDS`] by name: "5 ×200, 7 ×3 and
+    /// 58 more".
+    fn listed_ids(&self) -> String {
+        let mut by_count: Vec<(&u32, &usize)> = self.unknown_ids.iter().collect();
+        by_count.sort_by(|a, b| b.1.cmp(a.1).then(a.0.cmp(b.0)));
+        let ids: Vec<String> = by_count.iter().take(LISTED_IDS).map(|(id, n)| format!("{id} ×{n}")).collect();
+        let more = by_count.len().saturating_sub(LISTED_IDS);
+        if more > 0 { format!("{} and {more} more", ids.join(", ")) } else { ids.join(", ") }
     }
 
     /// True when nearly every non-background pixel is a stray (at least 90 %, of a collage
@@ -136,15 +176,41 @@ impl StrayReport {
 
 impl fmt::Display for StrayReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{} non-background pixel(s) carry no usable camera id (", self.count)?;
         let mut parts = Vec::new();
         if self.zero_id > 0 {
             parts.push(format!("{} with id 0", self.zero_id));
         }
         if !self.unknown_ids.is_empty() {
-            let ids: Vec<String> = self.unknown_ids.iter().map(|(id, n)| format!("{id} ×{n}")).collect();
-            parts.push(format!("ids with no ray file: {}", ids.join(", ")));
+            parts.push(format!("ids with no ray file: {}", self.listed_ids()));
         }
+        if self.untagged() || self.resized.is_some() {
+            // No tags at all, or a resampled collage: which ids the noise decodes to, or where,
+            // says nothing useful.
+            let cause = match (self.jpeg, self.resized) {
+                (true, _) => "the collage is a JPEG, whose lossy compression rewrites the low bits that \
+                              carry the camera tags"
+                    .to_owned(),
+                (false, Some(((w, h), (vw, vh)))) => format!(
+                    "the collage is {w}x{h} but the views are {vw}x{vh}: it was resampled, which rewrites \
+                     the low bits that carry the camera tags"
+                ),
+                (false, None) => "its pixels carry no camera tags: it was not cut from tagged views, or \
+                                  lost their tags on the way (resampled, colour-managed, saved lossy)"
+                    .to_owned(),
+            };
+            return write!(
+                f,
+                "{} of {} non-background pixels name no camera with a ray file ({}): {cause}.\n\
+                 Cut the collage from the tagged PNGs of {} with hard-edged selections and save it as \
+                 PNG, or keep it layered (.ora or .psd, as {} writes it: no tags needed)",
+                self.count,
+                self.foreground,
+                parts.join("; "),
+                self.hints.tagged_views,
+                self.hints.layered_views
+            );
+        }
+        write!(f, "{} non-background pixel(s) carry no usable camera id (", self.count)?;
         write!(f, "{}); first at ", parts.join("; "))?;
         let at: Vec<String> = self.first.iter().map(|(x, y)| format!("({x}, {y})")).collect();
         write!(f, "{}", at.join(", "))?;
@@ -153,16 +219,19 @@ impl fmt::Display for StrayReport {
         }
         // The likely cause, by the shape of the report.
         let solid = self.solid_ids();
-        if self.nearly_all() {
+        if let (true, Some(bits)) = (self.nearly_all(), self.fitting_bits) {
             write!(
                 f,
-                ": nearly every non-background pixel ({} of {}) decodes to no usable camera, so the \
-                 views were probably tagged with another tag width: give the same {} as when they \
-                 were rendered",
+                ": nearly every non-background pixel ({} of {}) decodes to no usable camera, but at {bits} \
+                 bits per channel they name cameras with ray files, so the views were tagged with {bits}: \
+                 give {} {bits}, as when they were rendered",
                 self.count, self.foreground, self.hints.tag_bits
             )?;
         } else if !solid.is_empty() {
-            let ids: Vec<String> = solid.iter().map(u32::to_string).collect();
+            let mut ids: Vec<String> = solid.iter().take(LISTED_IDS).map(u32::to_string).collect();
+            if solid.len() > LISTED_IDS {
+                ids.push(format!("… ({} cameras)", solid.len()));
+            }
             write!(
                 f,
                 ": camera(s) {} cover whole areas but have no ray file for this frame: render their \
@@ -251,7 +320,17 @@ impl Collage {
         options: CollageOptions,
     ) -> Result<(Self, StrayReport)> {
         let image = crate::png::read_image(path)?;
-        Self::decode(&image, path, known, options)
+        Self::decode(&image, path, known, options).map_err(|e| match e {
+            MccError::StrayPixels { path, mut report } => {
+                // A JPEG never keeps tags: say so rather than list what its noise decodes to.
+                let mut head = [0u8; 3];
+                let read =
+                    std::fs::File::open(&path).and_then(|mut f| std::io::Read::read_exact(&mut f, &mut head));
+                report.jpeg = read.is_ok() && head == [0xFF, 0xD8, 0xFF];
+                MccError::StrayPixels { path, report }
+            }
+            other => other,
+        })
     }
 
     /// Decodes an image already in memory; `path` names it in errors.
@@ -339,11 +418,31 @@ impl Collage {
                 ));
             }
         }
+        if let Some(known) = known.filter(|_| strays.nearly_all()) {
+            strays.fitting_bits = fitting_bits(image, known, code);
+        }
         if !strays.is_empty() && options.strays == StrayPolicy::Refuse {
             return Err(MccError::StrayPixels { path: path.into(), report: Box::new(strays) });
         }
         Ok((Self { width, height, ids }, strays))
     }
+}
+
+/// Another tag width than `given`'s at which at least 90 % of `image`'s non-background pixels
+/// name a camera in `known`, if any: the width the views were tagged with. (Only asked when
+/// nearly every pixel is a stray, so the extra passes cost only a refused collage.)
+fn fitting_bits(image: &DynamicImage, known: &BTreeSet<u32>, given: TagCode) -> Option<u8> {
+    let rgba = image.to_rgba8();
+    let foreground: Vec<[u8; 3]> = rgba
+        .pixels()
+        .filter(|p| p.0[3] != 0 && p.0[..3] != [0, 0, 0])
+        .map(|p| [p.0[0], p.0[1], p.0[2]])
+        .collect();
+    (1..=8u8).filter(|&b| b != given.bits()).find(|&b| {
+        let code = TagCode::new(b).expect("1 ..= 8 bits");
+        let named = foreground.iter().filter(|&&rgb| known.contains(&code.decode(rgb))).count();
+        !foreground.is_empty() && named * 10 >= foreground.len() * 9
+    })
 }
 
 #[cfg(test)]
@@ -409,8 +508,12 @@ mod tests {
             Collage::decode(&img, Path::new("cut.png"), Some(&known(&[1, 2])), options).unwrap();
         assert_eq!(report.count, 3);
         assert_eq!((c.id(2, 1), c.id(3, 2), c.id(3, 0)), (0, 0, 0));
-        // Many strays: only the first few are located.
-        let grey = DynamicImage::ImageRgb8(RgbImage::from_pixel(10, 10, Rgb([4, 4, 4])));
+        // Many strays (beside tagged pixels: a collage of nothing but strays is untagged, and
+        // told so without locations): only the first few are located.
+        let one = TagCode::default().encode([90, 90, 90], 1).unwrap();
+        let grey = DynamicImage::ImageRgb8(RgbImage::from_fn(30, 10, |x, _| {
+            Rgb(if x < 10 { [4, 4, 4] } else { one })
+        }));
         let err = Collage::decode(&grey, Path::new("g.png"), None, Default::default()).unwrap_err();
         let MccError::StrayPixels { report, .. } = &err else { panic!("{err}") };
         assert_eq!((report.count, report.first.len()), (100, STRAY_LOCATIONS));
@@ -420,7 +523,12 @@ mod tests {
     #[test]
     fn stray_messages_name_the_likely_cause_and_the_remedy() {
         let code = TagCode::default();
-        let hints = StrayHints { ignore: "--ignore-strays", tag_bits: "--tag-bits" };
+        let hints = StrayHints {
+            ignore: "--ignore-strays",
+            tag_bits: "--tag-bits",
+            tagged_views: "`render --tag`",
+            layered_views: "`render --layers`",
+        };
         let refuse = CollageOptions { hints, ..Default::default() };
         let ignore = CollageOptions { strays: StrayPolicy::Background, ..refuse };
         let decode = |img: RgbImage, options| {
@@ -449,11 +557,33 @@ mod tests {
                 && !msg.contains("antialiased"),
             "{msg}"
         );
-        // Nearly every pixel a stray: the tag width is wrong (views tagged with 3 bits, read with 2).
+        // Nearly every pixel a stray, but read at 3 bits they name camera 9: the views were
+        // tagged with 3 bits, and the message says so.
         let wide = TagCode::new(3).unwrap();
-        let other = RgbImage::from_pixel(20, 20, Rgb(wide.encode([90, 90, 90], 9).unwrap()));
-        let msg = decode(other, refuse).unwrap_err().to_string();
-        assert!(msg.contains("another tag width: give the same --tag-bits"), "{msg}");
+        let other =
+            DynamicImage::ImageRgb8(RgbImage::from_pixel(20, 20, Rgb(wide.encode([90, 90, 90], 9).unwrap())));
+        let msg =
+            Collage::decode(&other, Path::new("c.png"), Some(&known(&[9])), refuse).unwrap_err().to_string();
+        assert!(
+            msg.contains("at 3 bits per channel they name cameras with ray files")
+                && msg.contains("give --tag-bits 3"),
+            "{msg}"
+        );
+        // Noise (an untagged picture): two lines saying so and what works, a few ids at most,
+        // no advice about tag widths or views to render.
+        let mut state = 12345u32;
+        let noise = RgbImage::from_fn(32, 32, |_, _| {
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            let [a, b, c, _] = state.to_le_bytes();
+            Rgb([a | 1, b, c])
+        });
+        let msg = decode(noise, refuse).unwrap_err().to_string();
+        let lines: Vec<&str> = msg.lines().collect();
+        assert_eq!(lines.len(), 2, "{msg}");
+        assert!(lines[0].contains("its pixels carry no camera tags") && lines[0].contains("more)"), "{msg}");
+        assert!(lines[1].contains("`render --tag`") && lines[1].contains("`render --layers`"), "{msg}");
+        assert!(msg.matches('×').count() <= LISTED_IDS, "{msg}");
+        assert!(!msg.contains("--tag-bits") && !msg.contains("cover whole areas"), "{msg}");
     }
 
     #[test]

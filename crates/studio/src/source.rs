@@ -21,13 +21,13 @@ pub struct SceneSource {
 }
 
 impl SceneSource {
-    /// Loads `path`; `names` picks cameras by name (every camera when empty). An unknown name
-    /// is an error listing the scene's cameras.
+    /// Loads `path`; `names` picks cameras by name or number from 1, as `render --camera` does
+    /// (every camera when empty). An unknown one is an error listing the scene's cameras.
     pub fn load(path: PathBuf, names: Vec<String>) -> Result<Self> {
         let setup = SceneSetup::default();
         let scene = setup.load(&path)?;
         for name in &names {
-            scene.camera(&CameraSelector::Name(name.clone()))?;
+            scene.camera(&CameraSelector::parse(name))?;
         }
         if scene.cameras.is_empty() {
             return Err(StudioError::Project {
@@ -54,7 +54,7 @@ impl SceneSource {
         let descs: Vec<_> = if self.names.is_empty() {
             scene.cameras.iter().collect()
         } else {
-            let pick = |n: &String| scene.camera(&CameraSelector::Name(n.clone()));
+            let pick = |n: &String| scene.camera(&CameraSelector::parse(n));
             self.names.iter().map(pick).collect::<tracer::Result<_>>()?
         };
         Ok(descs.iter().enumerate().map(|(i, d)| StudioCamera::from_desc(i as u32 + 1, d)).collect())

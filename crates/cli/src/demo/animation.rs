@@ -60,7 +60,9 @@ pub(crate) fn run(s: &DemoSettings, shot: &Shot) -> anyhow::Result<()> {
     mcc::compose::compose_files(&mask0, &map, &views_dir, first, &collage0)?;
     let regions0 = out.join(format!("key{first:04}-collage-regions.png"));
     resize_labels(CAFE_REGIONS, res.0, &regions0)?;
+    pictures.push((format!("key {first} mask (red = camera 1, green = 2)"), mask0.clone()));
     pictures.push((format!("key {first} collage"), collage0.clone()));
+    pictures.push((format!("key {first} regions"), regions0.clone()));
 
     // 2. The last key: other cameras entirely (the room from its far corner, and the couple
     //    from the window side), a generated mask, no regions.
@@ -81,6 +83,7 @@ pub(crate) fn run(s: &DemoSettings, shot: &Shot) -> anyhow::Result<()> {
     write_second_mask(&mask1, res.0)?;
     let collage1 = out.join(format!("key{last:04}-collage.png"));
     mcc::compose::compose_files(&mask1, &map, &views_dir, last, &collage1)?;
+    pictures.push((format!("key {last} mask (red = camera 1, green = 2)"), mask1.clone()));
     pictures.push((format!("key {last} collage"), collage1.clone()));
 
     // 3. Remap both keys and in-between every frame (what `mcctrace keys` does).

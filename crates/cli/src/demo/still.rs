@@ -37,6 +37,7 @@ pub(crate) fn run(s: &DemoSettings) -> anyhow::Result<()> {
     let mask = out.join("collage-mask.png");
     resize_labels(CAFE_MASK, s.res.0, &mask)?;
     mcc::compose::compose_files(&mask, &map, &views_dir, 0, &collage)?;
+    pictures.push(("collage mask (red = camera 1, green = 2, black = blend)".into(), mask.clone()));
     pictures.push(("collage".into(), collage.clone()));
     let regions = out.join("collage-regions.png");
     resize_labels(CAFE_REGIONS, s.res.0, &regions)?;

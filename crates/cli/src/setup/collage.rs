@@ -67,7 +67,12 @@ impl RemapSettingsArgs {
         Ok(CollageOptions {
             tag: TagCode::new(self.tag_bits)?,
             strays: if self.ignore_strays { StrayPolicy::Background } else { StrayPolicy::Refuse },
-            hints: StrayHints { ignore: "--ignore-strays", tag_bits: "--tag-bits" },
+            hints: StrayHints {
+                ignore: "--ignore-strays",
+                tag_bits: "--tag-bits",
+                tagged_views: "`render --tag`",
+                layered_views: "`render --layers`",
+            },
         })
     }
 

@@ -15,7 +15,7 @@ pub struct QualityArgs {
     /// Samples per pixel (1 … 65536; with --split N, 1 … 65536 / N).
     #[arg(long, default_value_t = Quality::DEFAULT.spp, value_parser = crate::args::spp)]
     pub spp: u32,
-    /// Output resolution (default 640x360; for `rerender` and `animate`, the ray file's).
+    /// Output resolution (default 640x360).
     #[arg(long, value_name = "WxH")]
     pub res: Option<Resolution>,
     /// Seed of the sample sequence: the same seed gives the same image bit for bit.

@@ -31,9 +31,9 @@ pub enum Model {
 pub struct SceneArgs {
     /// Scene file (.gltf, .glb, .obj) or a directory of .obj files.
     pub scene: PathBuf,
-    /// Camera of the scene, by name or 0-based index; repeat for several views (numbered 1, 2,
-    /// … in this order). Default: the scene's first camera.
-    #[arg(long = "camera", value_name = "NAME|INDEX")]
+    /// Camera of the scene, by name or by number counted from 1 (`info` lists them so); repeat
+    /// for several views (numbered 1, 2, … in this order). Default: the scene's first camera.
+    #[arg(long = "camera", value_name = "NAME|NUMBER")]
     pub cameras: Vec<String>,
     /// Ad-hoc camera position (for scenes without cameras, e.g. OBJ), as x,y,z.
     #[arg(long, value_name = "X,Y,Z", requires = "look_at", conflicts_with = "cameras")]
@@ -114,10 +114,22 @@ pub fn select_views(scene: &mut Scene, a: &SceneArgs) -> anyhow::Result<Vec<View
     } else if a.cameras.is_empty() {
         vec![scene.camera(&CameraSelector::Index(0))?.clone()]
     } else {
-        a.cameras
-            .iter()
-            .map(|c| scene.camera(&CameraSelector::parse(c)).cloned())
-            .collect::<Result<_, _>>()?
+        let mut descs = Vec::new();
+        for c in &a.cameras {
+            let selector = CameraSelector::parse(c);
+            // Until numbering from 1, `--camera 0` meant the first camera: refuse it rather than
+            // let an old script pick another camera (a camera named "0" is still found by name).
+            if selector == CameraSelector::Number(0) && !scene.cameras.iter().any(|d| d.name == "0") {
+                bail!(
+                    "--camera 0: cameras are numbered from 1, as views are (the first camera is --camera \
+                     1, or give its name); {} has {}",
+                    scene.path.display(),
+                    scene.describe_cameras()
+                );
+            }
+            descs.push(scene.camera(&selector)?.clone());
+        }
+        descs
     };
     if let Some(model) = a.model {
         for d in &mut descs {

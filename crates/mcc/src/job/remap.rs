@@ -78,7 +78,8 @@ impl CollageFiles {
         // A tagged image, or a layered file whose layers name their cameras (by id, or by the
         // names the views' EXR headers record).
         let names = CameraNames::from_views(known, &self.rays_dir, self.frame);
-        let opened = open_collage(&self.collage, self.regions.as_deref(), &names, self.options)?;
+        let opened = open_collage(&self.collage, self.regions.as_deref(), &names, self.options)
+            .map_err(|e| with_views_size(e, &paths))?;
         if opened.collage.cameras().is_empty() {
             return Err(MccError::EmptyCollage { path: self.collage.clone() });
         }
@@ -89,9 +90,26 @@ impl CollageFiles {
             first.push(RemapWarning::StraysIgnored(opened.strays));
         }
         first.extend(opened.notes.into_iter().map(RemapWarning::Layers));
+        if !opened.collage.ids.contains(&0) {
+            first.push(RemapWarning::NoBackground);
+        }
         output.warnings.splice(0..0, first);
         Ok((output, opened.regions_from))
     }
+}
+
+/// A stray-pixel error `e` told what the views' size says: strays in a collage of another size
+/// than the views (`paths`, by id) come from resampling it, which is what the report then says.
+fn with_views_size(e: MccError, paths: &std::collections::BTreeMap<u32, PathBuf>) -> MccError {
+    let MccError::StrayPixels { path, mut report } = e else { return e };
+    let collage = image::image_dimensions(&path).ok();
+    let views = paths.values().next().and_then(|p| crate::RayFile::read(p).ok()).map(|r| (r.width, r.height));
+    if let (Some(collage), Some(views)) = (collage, views)
+        && collage != views
+    {
+        report.resized = Some((collage, views));
+    }
+    MccError::StrayPixels { path, report }
 }
 
 /// A collage remapped from its files, with the debug pictures written to a folder.

@@ -319,8 +319,7 @@ fn regions_from_nodes(
 ) -> Result<Regions> {
     let (width, height) = (file.tree().width, file.tree().height);
     let mut labels = vec![UNCLAIMED; width as usize * height as usize];
-    let mut painter =
-        Painter { file, labels: &mut labels, unclaimed: width as usize * height as usize, notes };
+    let mut painter = Painter::new(file, &mut labels, notes);
     for (k, node) in nodes.iter().enumerate() {
         painter.paint(node, 1.0, Some(k as u32 + 1), &|_, inherited| Ok(inherited), 0)?;
     }
@@ -354,7 +353,7 @@ fn paint(
 ) -> Result<Vec<u32>> {
     let (width, height) = (file.tree().width as usize, file.tree().height as usize);
     let mut labels = vec![UNCLAIMED; width * height];
-    let mut painter = Painter { file, labels: &mut labels, unclaimed: width * height, notes };
+    let mut painter = Painter::new(file, &mut labels, notes);
     for node in nodes {
         painter.paint(node, 1.0, None, label, 0)?;
     }
@@ -362,15 +361,25 @@ fn paint(
 }
 
 /// The top-to-bottom walk: each visible layer claims the still unclaimed pixels where its alpha
-/// times its opacity (and its groups') is at least ½.
+/// times its opacity (and its groups') is at least ½. A visible layer that claims none is noted,
+/// with the layers above that cover it: it changes nothing, which the user did not mean.
 struct Painter<'a> {
     file: &'a mut dyn LayeredFile,
     labels: &'a mut [u32],
-    unclaimed: usize,
+    /// Which layer (its number in `names`) claimed each pixel; meaningful where `labels` is not
+    /// [`UNCLAIMED`].
+    owners: Vec<u16>,
+    /// The names of the layers painted so far, in order.
+    names: Vec<String>,
     notes: &'a mut Vec<String>,
 }
 
-impl Painter<'_> {
+impl<'a> Painter<'a> {
+    fn new(file: &'a mut dyn LayeredFile, labels: &'a mut [u32], notes: &'a mut Vec<String>) -> Self {
+        let owners = vec![0; labels.len()];
+        Self { file, labels, owners, names: Vec::new(), notes }
+    }
+
     fn paint(
         &mut self,
         node: &Node,
@@ -419,9 +428,8 @@ impl Painter<'_> {
                          (\"camera 2\", or the view's file name)",
                     ));
                 }
-                if self.unclaimed > 0 {
-                    self.claim(node, x, y, index, threshold, value)?;
-                }
+                // Claimed even under a full canvas: a layer that takes nothing is worth a note.
+                self.claim(node, x, y, index, threshold, value)?;
             }
         }
         Ok(())
@@ -443,20 +451,45 @@ impl Painter<'_> {
             }
             return Ok(());
         }
+        // MAX_LAYERS bounds the layers, so their numbers fit.
+        let me = self.names.len() as u16;
+        self.names.push(node.name.clone());
+        let (mut claimed, mut covering) = (0usize, 0usize);
+        // The layers above holding the pixels this one would take (noted if it takes none).
+        let mut above = std::collections::BTreeSet::new();
         for cy in y0..y1 {
             let row = (cy * cw) as usize;
             let src_row = ((cy - y) * alpha.width as i64) as usize;
             for cx in x0..x1 {
-                let slot = &mut self.labels[row + cx as usize];
-                if *slot != UNCLAIMED {
+                let a = alpha.values.as_ref().map_or(OPAQUE, |v| v[src_row + (cx - x) as usize]);
+                if a < threshold {
                     continue;
                 }
-                let a = alpha.values.as_ref().map_or(OPAQUE, |v| v[src_row + (cx - x) as usize]);
-                if a >= threshold {
-                    *slot = value;
-                    self.unclaimed -= 1;
+                covering += 1;
+                let k = row + cx as usize;
+                if self.labels[k] == UNCLAIMED {
+                    self.labels[k] = value;
+                    self.owners[k] = me;
+                    claimed += 1;
+                } else if claimed == 0 {
+                    above.insert(self.owners[k]);
                 }
             }
+        }
+        if claimed == 0 {
+            let why = if covering == 0 {
+                "none of its pixels is at least half opaque".to_owned()
+            } else {
+                let names: Vec<String> =
+                    above.iter().map(|&o| format!("{:?}", self.names[o as usize])).collect();
+                let shown = if names.len() > 3 {
+                    format!("{} and {} more", names[..3].join(", "), names.len() - 3)
+                } else {
+                    names.join(", ")
+                };
+                format!("the layers above it ({shown}) cover every pixel it would take")
+            };
+            self.notes.push(format!("layer {:?} is visible, but {why}: it takes no pixel", node.name));
         }
         Ok(())
     }

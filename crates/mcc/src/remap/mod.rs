@@ -132,6 +132,9 @@ pub enum RemapWarning {
     StraysIgnored(StrayReport),
     /// Something about a layered collage's layers (e.g. one too transparent to take a pixel).
     Layers(String),
+    /// The collage has no background pixel: nothing is blended, every pixel keeps its view's
+    /// ray, which a collage is rarely meant to do.
+    NoBackground,
 }
 
 impl fmt::Display for RemapWarning {
@@ -144,6 +147,11 @@ impl fmt::Display for RemapWarning {
             ),
             Self::StraysIgnored(report) => write!(f, "treated as background: {report}"),
             Self::Layers(note) => write!(f, "{note}"),
+            Self::NoBackground => write!(
+                f,
+                "has no background pixel: every pixel is a camera's, so nothing is blended and each keeps \
+                 its view's ray; erase (or paint black) where the views should blend"
+            ),
         }
     }
 }

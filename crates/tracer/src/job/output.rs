@@ -49,6 +49,9 @@ pub struct RenderInfo<'a> {
     pub crop: u32,
     /// The band this file holds, and the whole image's size; `None`: the whole image.
     pub band: Option<(Band, glam::UVec2)>,
+    /// What a workflow adds to the header as `mcctrace/…` keys (e.g. what its camera-ray blur
+    /// did to the frame), recorded and compared on resume like the settings.
+    pub extra: &'a [(&'a str, String)],
 }
 
 impl<'a> RenderInfo<'a> {
@@ -65,6 +68,7 @@ impl<'a> RenderInfo<'a> {
             setup: None,
             crop: 0,
             band: None,
+            extra: &[],
         }
     }
 
@@ -115,6 +119,7 @@ impl<'a> RenderInfo<'a> {
         if let Some((band, size)) = self.band {
             out.extend(band.header(size.x, size.y));
         }
+        out.extend(self.extra.iter().map(|(k, v)| (*k, v.clone())));
         out
     }
 }

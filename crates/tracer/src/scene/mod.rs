@@ -100,15 +100,19 @@ impl Default for Environment {
 pub enum CameraSelector {
     /// By name (a glTF camera or camera-node name).
     Name(String),
-    /// By position in the scene's camera list (0-based).
+    /// By position in the scene's camera list (0-based; what code passes).
     Index(usize),
+    /// By number in the scene's camera list, counted from 1 as a person counts them (what a
+    /// command line passes); 0 names no camera.
+    Number(usize),
 }
 
 impl CameraSelector {
-    /// Parses a command-line selector: a whole number is an index unless a camera has that name.
+    /// Parses a command-line selector: a whole number is the camera's number, counted from 1
+    /// (a camera literally named so wins); anything else is a name.
     pub fn parse(s: &str) -> Self {
         match s.parse::<usize>() {
-            Ok(i) => Self::Index(i),
+            Ok(n) => Self::Number(n),
             Err(_) => Self::Name(s.to_owned()),
         }
     }
@@ -118,7 +122,9 @@ impl std::fmt::Display for CameraSelector {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             Self::Name(n) => write!(f, "named '{n}'"),
-            Self::Index(i) => write!(f, "at index {i}"),
+            Self::Index(i) => write!(f, "number {} (index {i})", i + 1),
+            Self::Number(0) => write!(f, "number 0: cameras are numbered from 1 (the first is 1)"),
+            Self::Number(n) => write!(f, "number {n}"),
         }
     }
 }
@@ -186,10 +192,11 @@ impl Scene {
     pub fn camera(&self, selector: &CameraSelector) -> Result<&CameraDesc> {
         let found = match selector {
             CameraSelector::Name(name) => self.cameras.iter().find(|c| &c.name == name),
-            CameraSelector::Index(i) => {
-                // A camera literally named "2" wins over index 2.
-                let by_name = self.cameras.iter().find(|c| c.name == i.to_string());
-                by_name.or_else(|| self.cameras.get(*i))
+            CameraSelector::Index(i) => self.cameras.get(*i),
+            CameraSelector::Number(n) => {
+                // A camera literally named "2" wins over number 2.
+                let by_name = self.cameras.iter().find(|c| c.name == n.to_string());
+                by_name.or_else(|| n.checked_sub(1).and_then(|i| self.cameras.get(i)))
             }
         };
         found.ok_or_else(|| TracerError::UnknownCamera {
@@ -199,13 +206,14 @@ impl Scene {
         })
     }
 
-    /// The scene's cameras listed for a message: "2 cameras: 0 'left', 1 'right'".
+    /// The scene's cameras listed for a message, numbered from 1 as a selector counts them:
+    /// "2 cameras: 1 'left', 2 'right'".
     pub fn describe_cameras(&self) -> String {
         if self.cameras.is_empty() {
             return "no cameras (give one with --look-from/--look-at or a camera-list file)".to_owned();
         }
         let list: Vec<String> =
-            self.cameras.iter().enumerate().map(|(i, c)| format!("{i} '{}'", c.name)).collect();
+            self.cameras.iter().zip(1..).map(|(c, n)| format!("{n} '{}'", c.name)).collect();
         format!("{} camera{}: {}", list.len(), if list.len() == 1 { "" } else { "s" }, list.join(", "))
     }
 

@@ -16,6 +16,9 @@ use gltf::mesh::Semantic;
 /// terabytes. Shared with the accessor reader.
 pub(super) const MAX_VIEWLESS_COUNT: usize = 1 << 26;
 
+/// The Draco mesh-compression extension, whose accessors carry no data of their own.
+const DRACO: &str = "KHR_draco_mesh_compression";
+
 /// Refuses, with a message naming the object, what the gltf crate's validator would panic on
 /// or report unclearly.
 pub(super) fn check(root: &Root) -> Result<(), String> {
@@ -58,6 +61,15 @@ pub(super) fn check(root: &Root) -> Result<(), String> {
             return Err(format!(
                 "accessor {i}: count {count} without a buffer view is implausibly large (at most \
                  {MAX_VIEWLESS_COUNT})"
+            ));
+        }
+        if accessor.sparse.is_none() && root.extensions_used.iter().any(|e| e == DRACO) {
+            // Draco files leave the accessors their compressed data replaces without a view:
+            // the file's geometry is in a form this loader cannot decode.
+            return Err(format!(
+                "accessor {i} has no data of its own: its mesh is compressed with Draco ({DRACO}, \
+                 listed in extensionsUsed), which mcctrace cannot decode (it has no Draco decoder); \
+                 export the file without Draco mesh compression"
             ));
         }
         if accessor.sparse.is_none() {

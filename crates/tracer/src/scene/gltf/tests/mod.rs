@@ -524,9 +524,15 @@ fn scene_gltf_errors_name_file_and_problem() {
     let scene = Scene::load(&src.join("cornell.gltf")).unwrap();
     let message = scene.camera(&CameraSelector::Name("nope".into())).unwrap_err().to_string();
     assert!(
-        message.contains("cornell.gltf") && message.contains("'nope'") && message.contains("0 'cornell'"),
+        message.contains("cornell.gltf") && message.contains("'nope'") && message.contains("1 'cornell'"),
         "{message}"
     );
     let message = scene.camera(&CameraSelector::Index(3)).unwrap_err().to_string();
-    assert!(message.contains("index 3") && message.contains("1 camera: 0 'cornell'"), "{message}");
+    assert!(message.contains("number 4 (index 3)") && message.contains("1 camera: 1 'cornell'"), "{message}");
+    // A command line counts cameras from 1, as views are numbered: 1 is the first, 0 none.
+    assert_eq!(scene.camera(&CameraSelector::parse("1")).unwrap().name, "cornell");
+    let message = scene.camera(&CameraSelector::parse("0")).unwrap_err().to_string();
+    assert!(message.contains("numbered from 1"), "{message}");
+    let message = scene.camera(&CameraSelector::parse("2")).unwrap_err().to_string();
+    assert!(message.contains("no camera number 2;"), "{message}");
 }
