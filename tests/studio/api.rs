@@ -143,7 +143,7 @@ async fn a_tab_far_behind_its_queue_ends_with_the_latest_state() {
     // Big maps (a labels message is ~90 kB) fill the stalled tab's socket buffers (a few MB)
     // after a few dozen strokes; the queue (256 messages) overflows after a hundred more.
     let res = [256u32, 256];
-    let config = Config { res, engine: SETTINGS, ..Config::new(Some(scene()), dir.clone()) };
+    let config = Config { res: Some(res), engine: SETTINGS, ..Config::new(Some(scene()), dir.clone()) };
     let running = ::studio::serve(config).expect("the studio starts");
     let mut slow = Client::connect(&running).await;
     slow.hello().await;

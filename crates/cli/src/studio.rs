@@ -16,9 +16,9 @@ pub struct StudioArgs {
     /// A scene camera to paint with, by name (repeat; default: all the scene's cameras).
     #[arg(long = "camera", value_name = "NAME")]
     pub cameras: Vec<String>,
-    /// Collage resolution.
-    #[arg(long, default_value = "480x270")]
-    pub res: Resolution,
+    /// Collage resolution (default: the --collage's own size, else 480x270).
+    #[arg(long)]
+    pub res: Option<Resolution>,
     /// The first key's frame.
     #[arg(long, default_value_t = 0)]
     pub frame: u32,
@@ -58,7 +58,7 @@ pub fn run(a: StudioArgs) -> anyhow::Result<()> {
     };
     let config = ::studio::Config {
         cameras: a.cameras,
-        res: [a.res.0.x, a.res.0.y],
+        res: a.res.map(|r| [r.0.x, r.0.y]),
         frame: a.frame,
         collage: a.collage,
         listen: a.listen,
