@@ -61,6 +61,13 @@ async fn saved_projects_feed_the_batch_commands_bit_for_bit() {
         i.pixels.iter().flat_map(|p| p.to_array().map(f32::to_bits)).collect::<Vec<_>>()
     };
     assert!(bits(&ours) == bits(&theirs), "render final and mcctrace rerender differ");
+    // Issue 41, item 17: and its EXR header is `rerender`'s but for the time it took.
+    let header = |path: &Path| {
+        let mut text = tracer::image_io::read_exr(path).unwrap().metadata;
+        assert!(text.remove("mcctrace/seconds").is_some(), "{} records its time", path.display());
+        text
+    };
+    assert_eq!(header(Path::new(done["exr"].as_str().unwrap())), header(&batch));
 
     // A second key at frame 5, then reopen: the cameras (the edited copy too) and maps return.
     let state = client.request(json!({"type": "frame", "frame": 5})).await;
