@@ -352,8 +352,11 @@
   });
   on(form, 'submit', (e) => e.preventDefault());
 
-  function sendCamera(c) {
-    S.cameraIds.add(send({ type: 'camera_edit', index: c.index, eye: c.eye, target: c.target, up: c.up, fov_deg: c.fov_deg }));
+  // Every edit of one drag (or one burst of wheel turns) carries the same gesture number: the
+  // server makes them one undo step.
+  let gesture = 0, wheelAt = -Infinity;
+  function sendCamera(c, g) {
+    S.cameraIds.add(send({ type: 'camera_edit', index: c.index, eye: c.eye, target: c.target, up: c.up, fov_deg: c.fov_deg, gesture: g }));
   }
 
   const sub = (a, b) => a.map((v, i) => v - b[i]);
@@ -366,7 +369,7 @@
   const rotate = (v, k, t) => add(add(mul(v, Math.cos(t)), mul(cross(k, v), Math.sin(t))), mul(k, dot(k, v) * (1 - Math.cos(t))));
 
   let camTimer = 0;
-  function moveCamera(c, kind, dx, dy) {
+  function moveCamera(c, kind, dx, dy, g) {
     const up = norm(c.up);
     const back = sub(c.eye, c.target);
     if (kind === 'orbit') {
@@ -389,7 +392,7 @@
     }
     fillCameraFormFrom(c);
     // At most one edit per 40 ms while dragging; the last one is always sent.
-    if (!camTimer) camTimer = setTimeout(timed('camera edit', () => { camTimer = 0; sendCamera(c); }), 40);
+    if (!camTimer) camTimer = setTimeout(timed('camera edit', () => { camTimer = 0; sendCamera(c, g); }), 40);
   }
   function fillCameraFormFrom(c) {
     for (let i = 0; i < 3; i++) { form[`eye${i}`].value = round(c.eye[i]); form[`target${i}`].value = round(c.target[i]); }
@@ -491,7 +494,7 @@
     const p = pixelAt(e);
     if (S.mode === 'source') {
       const c = camera(S.selected);
-      if (c) drag = { kind: e.shiftKey || e.button !== 0 ? 'pan' : 'orbit', last: e, camera: c };
+      if (c) drag = { kind: e.shiftKey || e.button !== 0 ? 'pan' : 'orbit', last: e, camera: c, gesture: ++gesture };
     } else if (S.tool === 'select') {
       const s = S.selection;
       const inside = s && p.x >= s.x && p.y >= s.y && p.x < s.x + s.w && p.y < s.y + s.h;
@@ -510,7 +513,7 @@
     const events = e.getCoalescedEvents ? e.getCoalescedEvents() : [e];
     if (drag.kind === 'paint') for (const ev of events.length ? events : [e]) strokeTo(pixelAt(ev));
     else if (drag.kind === 'orbit' || drag.kind === 'pan') {
-      moveCamera(drag.camera, drag.kind, e.clientX - drag.last.clientX, e.clientY - drag.last.clientY);
+      moveCamera(drag.camera, drag.kind, e.clientX - drag.last.clientX, e.clientY - drag.last.clientY, drag.gesture);
       drag.last = e;
     } else {
       const p = pixelAt(e);
@@ -536,7 +539,7 @@
     drag = null;
     if (d.kind === 'paint') endStroke();
     else if (d.kind === 'move' && (d.dx || d.dy)) moveSelection(d.dx, d.dy);
-    else if (d.kind === 'orbit' || d.kind === 'pan') { clearTimeout(camTimer); camTimer = 0; sendCamera(d.camera); }
+    else if (d.kind === 'orbit' || d.kind === 'pan') { clearTimeout(camTimer); camTimer = 0; sendCamera(d.camera, d.gesture); }
     schedule();
   }
   on(overlay, 'pointerup', endDrag);
@@ -545,7 +548,9 @@
     const c = camera(S.selected);
     if (S.mode !== 'source' || !c) return;
     e.preventDefault();
-    moveCamera(c, 'dolly', 0, e.deltaY);
+    if (e.timeStamp - wheelAt > 400) ++gesture;
+    wheelAt = e.timeStamp;
+    moveCamera(c, 'dolly', 0, e.deltaY, gesture);
   }, { passive: false });
 
   // ---- tools, buttons, keys -------------------------------------------------------------------

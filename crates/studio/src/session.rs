@@ -169,13 +169,13 @@ impl Session {
         Some(layer)
     }
 
-    /// Moves a camera (checked first), as one undo step.
+    /// Moves a camera (checked first), as one undo step (with the other edits of its drag).
     pub fn edit_camera(&mut self, edit: &crate::protocol::CameraEdit) -> Result<()> {
         let before = self.key().camera(edit.index)?.clone();
         let moved = before.edited(edit)?;
         let key = self.key_mut();
         key.cameras[edit.index as usize - 1] = moved.clone();
-        key.maps.camera_edited(before, moved);
+        key.maps.camera_edited(before, moved, edit.gesture);
         self.seq += 1;
         Ok(())
     }
