@@ -25,7 +25,7 @@
     selection: null, clipboard: null, paintIds: new Set(), cameraIds: new Set(),
     // Replies go to every tab: ids start at random so one tab never takes another's as its own.
     nextId: 1 + Math.floor(Math.random() * 1e9),
-    longTasks: [], errors: [],
+    longTasks: [], errors: [], thumbLog: [],
   };
   window.studio = S;
   // A script error is an error of the page: kept with the server's, for the browser test.
@@ -212,6 +212,7 @@
       S.previewLog.push({ seq: h.seq, spp: h.spp, w, h: hgt, t: performance.now() });
       $('preview-info').textContent = `preview ${w}×${hgt}, ${h.spp} spp`;
     } else if (h.kind === 'thumb') {
+      S.thumbLog.push({ camera: h.camera, w, h: hgt, spp: h.spp });
       drawThumb(h.camera, bmp);
       bmp.close();
       const src = S.sources[h.camera];
@@ -328,6 +329,7 @@
     renderCameraList();
     fillCameraForm();
     if (S.mode === 'source' || S.mode === 'weights') setView(S.mode);
+    schedule();
   }
 
   // ---- the camera form and mouse controls ----------------------------------------------------
@@ -442,6 +444,7 @@
       drawOverlay();
       // What the canvas now shows, for the browser test's hook (`afterDraw`).
       S.drawn = shown;
+      showHint(shown);
       if (S.afterDraw) {
         const t = performance.now();
         S.afterDraw();
@@ -449,6 +452,19 @@
       }
     }
     if (dirty) schedule();
+  }
+
+  // Over a canvas with nothing painted: what it shows and what to do (changed only when it
+  // changes: no layout work per frame).
+  function showHint(shown) {
+    const empty = !!(shown && shown.empty && S.mode === 'final');
+    const c = empty && shown.camera ? camera(shown.camera) : null;
+    const text = !empty ? '' : `Nothing painted yet${c ? `: this is camera ${c.index} “${c.name}”` : ''}. `
+      + 'Pick a camera on the left (or press 1–9), then paint with the Brush where it should be seen; '
+      + 'the canvas then shows the collage as rendered.';
+    const hint = $('hint');
+    if (hint.textContent !== text) hint.textContent = text;
+    if (hint.hidden !== !empty) hint.hidden = !empty;
   }
 
   function drawOverlay() {
