@@ -3,6 +3,7 @@
 //! "Safe by default".
 
 mod api;
+mod autosave;
 mod collage;
 mod preview;
 mod project;

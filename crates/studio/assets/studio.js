@@ -119,7 +119,7 @@
   // `socket message` in the record says which kind it was.
   const byType = new Map();
   function onMessage(m) {
-    const type = ['state', 'labels', 'progress', 'saved', 'error', 'final', 'image'].includes(m.type) ? m.type : 'other';
+    const type = ['state', 'labels', 'progress', 'saved', 'error', 'final', 'image', 'autosave'].includes(m.type) ? m.type : 'other';
     if (!byType.has(type)) byType.set(type, timed(`socket ${type}`, dispatch));
     byType.get(type)(m);
   }
@@ -132,9 +132,20 @@
       case 'error': onError(m); break;
       case 'final': onFinalDone(m); break;
       case 'image': pendingImage = m; break;
+      case 'autosave': onAutosave(m); break;
       default: break;
     }
   }
+
+  // An earlier session stopped with unsaved changes: offer them (every tab; gone once answered).
+  function onAutosave(m) {
+    S.autosave = m.dir;
+    const age = Number.isFinite(m.age_seconds) ? ` ${Math.round(m.age_seconds / 60)} min ago` : '';
+    $('autosave-text').textContent = m.dir ? `Unsaved changes of an earlier session (stopped${age}) were kept in ${m.dir}.` : '';
+    $('autosave').hidden = !m.dir;
+  }
+  on($('autosave-restore'), 'click', () => send({ type: 'autosave', restore: true }));
+  on($('autosave-discard'), 'click', () => send({ type: 'autosave', restore: false }));
 
   function onError(m) {
     S.errors.push(m.message);

@@ -105,6 +105,11 @@ pub enum Request {
     },
     /// Stop the final render.
     CancelFinal,
+    /// Answer the offer of an earlier session's autosave.
+    Autosave {
+        /// Restore it (else discard it).
+        restore: bool,
+    },
 }
 
 /// A parsed message with its id.

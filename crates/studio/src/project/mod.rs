@@ -9,7 +9,11 @@
 //! views/frameFFFFcameraCC.{exr,png,mcr}  every key's views (`render --tag --lens-writer`)
 //! final/rerender-frameFFFF.{exr,png,mcr} the last "render final" (as `rerender` writes it)
 //! ```
+//!
+//! Unsaved changes left when the studio stops go to `PROJECT.autosave/`, a project folder of the
+//! same layout beside it ([`autosave`]).
 
+pub mod autosave;
 mod final_render;
 mod save;
 
@@ -194,11 +198,13 @@ pub fn open_session(config: &Config) -> Result<Shared> {
         None => open_project(&project)?,
     };
     let engine = crate::EngineSettings { ..config.engine };
-    Shared::new(session, source, engine, project)
+    let shared = Shared::new(session, source, engine, project)?;
+    autosave::offer(&shared);
+    Ok(shared)
 }
 
 /// Opens the project saved in `dir`.
-fn open_project(dir: &Path) -> Result<(Session, SceneSource)> {
+pub(crate) fn open_project(dir: &Path) -> Result<(Session, SceneSource)> {
     let file = ProjectFile::read(dir)?;
     let source = SceneSource::load(file.scene.clone(), file.scene_cameras.clone())?;
     let mut keys = std::collections::BTreeMap::new();
