@@ -157,9 +157,9 @@ impl CameraNames {
             (Some([id]), true) => Ok(*id),
             (Some([id]), false) => Err(format!(
                 "its name says camera {id} (\"{stem}\") but its number says camera {number}{}; \
-                 rename the layer {} if it shows {stem}, or {} if it shows camera {number}",
+                 rename the layer \"{stem} (camera {id})\" if it shows {stem}, or {} if it shows camera \
+                 {number}",
                 name_of(number).map_or(String::new(), |n| format!(", which the views name \"{n}\"")),
-                format!("\"{stem} (camera {id})\""),
                 fix_number(number),
             )),
             (Some(ids), _) => Err(format!(
