@@ -80,6 +80,8 @@ pub fn answer(shared: &Shared, restore: bool) -> Result<()> {
         session.keys = saved.keys;
         session.frame = saved.frame;
         session.seamless = saved.seamless;
+        // The view may name a camera the kept keys do not have.
+        session.view = saved.view;
         session.seq += 1;
         // Unsaved in the project until the next save (and kept again if stopped before it).
         session.edits = shared.saved_edits.load(Ordering::SeqCst) + 1;
