@@ -81,7 +81,7 @@ fn remap_timing(rounds: usize) {
 
 async fn session(rounds: usize) {
     let dir = std::env::temp_dir().join(format!("mcctrace-studio-bench-{}", std::process::id()));
-    let config = studio::Config { res: RES, ..studio::Config::new(Some(cafe()), dir.clone()) };
+    let config = studio::Config { res: Some(RES), ..studio::Config::new(Some(cafe()), dir.clone()) };
     let running = studio::serve(config).expect("the studio starts");
     let mut client = Client::connect(&running).await;
     let state = client.hello().await;

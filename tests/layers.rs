@@ -53,7 +53,7 @@ fn render_views(dir: &Scratch) {
 }
 
 /// The entries of a zip archive, in order.
-fn unzip(path: &Path) -> Vec<(String, Vec<u8>)> {
+pub(crate) fn unzip(path: &Path) -> Vec<(String, Vec<u8>)> {
     let mut zip = zip::ZipArchive::new(std::fs::File::open(path).unwrap()).unwrap();
     (0..zip.len())
         .map(|k| {
@@ -65,7 +65,7 @@ fn unzip(path: &Path) -> Vec<(String, Vec<u8>)> {
         .collect()
 }
 
-fn rezip(path: &Path, entries: &[(String, Vec<u8>)]) {
+pub(crate) fn rezip(path: &Path, entries: &[(String, Vec<u8>)]) {
     let mut zip = zip::ZipWriter::new(std::fs::File::create(path).unwrap());
     for (name, bytes) in entries {
         let method = if name == "mimetype" {
@@ -81,7 +81,7 @@ fn rezip(path: &Path, entries: &[(String, Vec<u8>)]) {
 }
 
 /// What the edit script does to a layer's alpha at (x, y): a factor in [0, 1] to multiply by.
-type Edit = fn(u32, u32) -> f64;
+pub(crate) type Edit = fn(u32, u32) -> f64;
 
 /// Camera 1 (top): a hard eraser over a band on the right, and a feathered round brush (hard
 /// core of radius 5, soft to radius 11) dabbed along a line on the left.
@@ -105,7 +105,7 @@ fn erase_second(x: u32, y: u32) -> f64 {
 }
 
 /// Applies `edit` to a layer PNG's alpha the way an editor stores it: 8-bit, rounded.
-fn edit_png(bytes: &[u8], edit: Edit) -> (Vec<u8>, RgbaImage) {
+pub(crate) fn edit_png(bytes: &[u8], edit: Edit) -> (Vec<u8>, RgbaImage) {
     let mut img = image::load_from_memory(bytes).unwrap().to_rgba8();
     for (x, y, p) in img.enumerate_pixels_mut() {
         p.0[3] = (p.0[3] as f64 * edit(x, y)).round() as u8;
@@ -206,6 +206,48 @@ fn a_layer_named_after_its_camera_resolves_through_the_views_exr() {
     let names = CameraNames::from_views([1, 2].into(), dir.path("views"), 0);
     let c = open_collage(&dir.path("renamed.ora"), None, &names, Default::default()).unwrap().collage;
     assert!(c.ids.iter().all(|&id| id == 1));
+}
+
+/// Issue 41, item 1: a layer `NAME (camera N)` whose name and number disagree over the views
+/// (`wide (camera 1)` over views whose camera 1 is `cornell`) is refused, naming the layer,
+/// both readings and the fix, and writes nothing.
+#[test]
+fn remap_refuses_a_layer_whose_name_and_number_disagree() {
+    let dir = Scratch::new("layers-disagree");
+    render_views(&dir);
+    let entries = unzip(&dir.path("views.ora"));
+    let remap_renamed = |from: &str, to: &str| {
+        let mut entries = entries.clone();
+        let stack = entries.iter_mut().find(|(n, _)| n == "stack.xml").unwrap();
+        stack.1 = String::from_utf8(stack.1.clone()).unwrap().replace(from, to).into_bytes();
+        rezip(&dir.path("renamed.ora"), &entries);
+        let args = ["remap", "--collage", &dir.s("renamed.ora"), "--rays", &dir.s("views")];
+        let out = dir.s("r.mcr");
+        let result = mcctrace(&[&args[..], &["--out", &out, "-q"]].concat());
+        assert!(result.is_err() != dir.path("r.mcr").exists(), "a refused remap writes nothing");
+        let _ = std::fs::remove_file(dir.path("r.mcr"));
+        result.map_err(|e| format!("{e:#}"))
+    };
+    // The name of another view: both readings and both renames are offered.
+    let msg = remap_renamed("cornell (camera 1)", "corner (camera 1)").unwrap_err();
+    assert!(
+        msg.contains("layer \"corner (camera 1)\"")
+            && msg.contains("its name says camera 2 (\"corner\")")
+            && msg.contains("camera 1, which the views name \"cornell\"")
+            && msg.contains("\"cornell (camera 1)\"")
+            && msg.contains("\"corner (camera 2)\""),
+        "{msg}"
+    );
+    // A name no view records, over a view that records another.
+    let msg = remap_renamed("cornell (camera 1)", "wide (camera 1)").unwrap_err();
+    assert!(
+        msg.contains("layer \"wide (camera 1)\"")
+            && msg.contains("\"wide\", which no view records")
+            && msg.contains("the views name \"cornell\""),
+        "{msg}"
+    );
+    // Name and number agreeing (the way `render --layers` writes them) still remap.
+    remap_renamed("cornell (camera 1)", "Cornell (camera 1)").unwrap();
 }
 
 /// The fixture folder.

@@ -78,6 +78,23 @@ impl Cluster {
             .collect()
     }
 
+    /// Runs `program ARGS` (the wrapper running `mcctrace`) against this cluster; its output.
+    pub fn output(&self, program: &Path, args: &[String]) -> std::process::Output {
+        self.command(program).args(args).output().expect("run mcctrace")
+    }
+
+    /// `scontrol show job ID`'s output (empty once Slurm has forgotten the job).
+    pub fn show_job(&self, id: &str) -> String {
+        self.run("scontrol", &["show", "job", id]).unwrap_or_default()
+    }
+
+    /// Cancels the jobs (a test that needed only their submission).
+    pub fn cancel(&self, jobs: &[(String, String)]) {
+        let ids: Vec<&str> = jobs.iter().map(|(_, id)| id.as_str()).collect();
+        let out = self.command("scancel").args(&ids).output().expect("run scancel");
+        assert!(out.status.success(), "scancel {ids:?}: {}", String::from_utf8_lossy(&out.stderr));
+    }
+
     fn ids(jobs: &[(String, String)]) -> String {
         jobs.iter().map(|(_, id)| id.as_str()).collect::<Vec<_>>().join(",")
     }

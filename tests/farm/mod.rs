@@ -15,6 +15,7 @@
 //! under the target folder could be a stale build; see `bad_inputs`).
 
 mod bands;
+mod checks;
 mod cluster;
 mod stages;
 mod still;

@@ -3,7 +3,7 @@
 
 use super::{Client, Msg, RES, SETTINGS, decode, scene, scratch, start, two_strokes, two_strokes_labels};
 use ::studio::Config;
-use serde_json::json;
+use serde_json::{Value, json};
 use std::time::Duration;
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
@@ -143,7 +143,7 @@ async fn a_tab_far_behind_its_queue_ends_with_the_latest_state() {
     // Big maps (a labels message is ~90 kB) fill the stalled tab's socket buffers (a few MB)
     // after a few dozen strokes; the queue (256 messages) overflows after a hundred more.
     let res = [256u32, 256];
-    let config = Config { res, engine: SETTINGS, ..Config::new(Some(scene()), dir.clone()) };
+    let config = Config { res: Some(res), engine: SETTINGS, ..Config::new(Some(scene()), dir.clone()) };
     let running = ::studio::serve(config).expect("the studio starts");
     let mut slow = Client::connect(&running).await;
     slow.hello().await;
@@ -199,6 +199,62 @@ async fn a_tab_far_behind_its_queue_ends_with_the_latest_state() {
     assert_eq!(seen_state, Some(seq), "the slow tab's last state is not the server's");
     assert!(seen_labels == labels, "the slow tab's label map is not the server's");
     assert!(seen_regions == regions, "the slow tab's region map is not the server's");
+    drop(running);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 41, item 13: a camera drag is one undo step. The page sends a drag as an edit every
+/// 40 ms and the last pose again on release, all with the drag's gesture number; one undo puts
+/// the camera back where the drag started, the next undoes the stroke before it, and a second
+/// drag is a step of its own.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_camera_drag_is_one_undo_step() {
+    let dir = scratch("api-drag");
+    let running = start(&dir);
+    let mut client = Client::connect(&running).await;
+    let start_state = client.hello().await;
+    let first = start_state["cameras"][0].clone();
+    client.paint([0, 0, 4, 4], &[1; 16]).await;
+    let eye: Vec<f64> = first["eye"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    let pose = |k: usize, gesture: u64| {
+        json!({"type": "camera_edit", "index": 1, "eye": [eye[0] + 0.05 * k as f64, eye[1], eye[2]],
+               "target": first["target"], "up": first["up"], "fov_deg": first["fov_deg"], "gesture": gesture})
+    };
+    let drag = |gesture: u64, from: usize| {
+        // Ten timed edits, then the release sends the last pose again.
+        (from..from + 10).map(move |k| pose(k, gesture)).chain(std::iter::once(pose(from + 9, gesture)))
+    };
+    let mut dragged = Value::Null;
+    for edit in drag(7, 1) {
+        dragged = client.request(edit).await;
+    }
+    let moved_eye = dragged["cameras"][0]["eye"].clone();
+    assert_ne!(moved_eye, first["eye"]);
+    let mut second = Value::Null;
+    for edit in drag(8, 11) {
+        second = client.request(edit).await;
+    }
+    assert_ne!(second["cameras"][0]["eye"], moved_eye);
+
+    // One undo: the second drag, whole.
+    let state = client.request(json!({"type": "undo"})).await;
+    assert_eq!(state["cameras"][0]["eye"], moved_eye, "{state}");
+    // The next: the first drag, whole; the stroke is still there.
+    let state = client.request(json!({"type": "undo"})).await;
+    assert_eq!(state["cameras"][0]["eye"], first["eye"], "{state}");
+    assert_eq!(state["can_undo"], true, "the stroke is left to undo");
+    // Then the stroke.
+    let id = client.send(json!({"type": "undo"})).await;
+    let Msg::Json(labels) = client.until(|m| m.kind() == "labels").await else { unreachable!() };
+    assert!(decode(&labels["data"]).iter().all(|&l| l == 0));
+    let Msg::Json(state) = client.until(|m| matches!(m, Msg::Json(v) if v["id"] == json!(id))).await else {
+        unreachable!()
+    };
+    assert_eq!(state["can_undo"], false);
+    // Redo brings the first drag back in one step.
+    client.request(json!({"type": "redo"})).await;
+    let state = client.request(json!({"type": "redo"})).await;
+    assert_eq!(state["cameras"][0]["eye"], moved_eye, "{state}");
     drop(running);
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -3,6 +3,8 @@
 //! "Safe by default".
 
 mod api;
+mod autosave;
+mod collage;
 mod preview;
 mod project;
 mod safety;
@@ -32,7 +34,7 @@ pub const SETTINGS: EngineSettings =
 
 /// A studio on the Cornell box at [`RES`], saving to `dir`.
 pub fn start(dir: &Path) -> Running {
-    let config = Config { res: RES, engine: SETTINGS, ..Config::new(Some(scene()), dir.to_path_buf()) };
+    let config = Config { res: Some(RES), engine: SETTINGS, ..Config::new(Some(scene()), dir.to_path_buf()) };
     ::studio::serve(config).expect("the studio starts")
 }
 

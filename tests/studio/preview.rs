@@ -34,7 +34,7 @@ fn srgb8(image: &RgbImage) -> Vec<u8> {
 async fn the_preview_series_is_the_rerender_and_converges_as_one_over_spp() {
     let dir = scratch("preview-series");
     let project = dir.join("proj");
-    let config = Config { res: RES, engine: SERIES, ..Config::new(Some(scene()), project.clone()) };
+    let config = Config { res: Some(RES), engine: SERIES, ..Config::new(Some(scene()), project.clone()) };
     let running = ::studio::serve(config).expect("the studio starts");
     let mut client = Client::connect(&running).await;
     let seq = two_strokes(&mut client).await["seq"].clone();

@@ -61,6 +61,13 @@ async fn saved_projects_feed_the_batch_commands_bit_for_bit() {
         i.pixels.iter().flat_map(|p| p.to_array().map(f32::to_bits)).collect::<Vec<_>>()
     };
     assert!(bits(&ours) == bits(&theirs), "render final and mcctrace rerender differ");
+    // Issue 41, item 17: and its EXR header is `rerender`'s but for the time it took.
+    let header = |path: &Path| {
+        let mut text = tracer::image_io::read_exr(path).unwrap().metadata;
+        assert!(text.remove("mcctrace/seconds").is_some(), "{} records its time", path.display());
+        text
+    };
+    assert_eq!(header(Path::new(done["exr"].as_str().unwrap())), header(&batch));
 
     // A second key at frame 5, then reopen: the cameras (the edited copy too) and maps return.
     let state = client.request(json!({"type": "frame", "frame": 5})).await;
@@ -115,10 +122,22 @@ async fn opens_layered_and_tagged_collages_cut_elsewhere() {
     let cafe = crate::common::repo_root().join("scenes/cafe/cafe.gltf");
     for file in ["krita-edited.ora", "gimp-edited.psd"] {
         let dir = scratch(&format!("open-{file}"));
+        // The Krita file's layers are named after the Cornell box's cameras (`cornell (camera
+        // 1)`): on the café they are renamed after its cameras, whose name a studio reads.
+        let collage = if file.ends_with(".ora") {
+            let mut entries = crate::layers::unzip(&data.join(file));
+            let stack = entries.iter_mut().find(|(n, _)| n == "stack.xml").unwrap();
+            let xml = String::from_utf8(stack.1.clone()).unwrap();
+            stack.1 = xml.replace("\"cornell (", "\"left (").replace("\"corner (", "\"right (").into_bytes();
+            crate::layers::rezip(&dir.join(file), &entries);
+            dir.join(file)
+        } else {
+            data.join(file)
+        };
         let config = ::studio::Config {
-            res: [64, 48],
+            res: Some([64, 48]),
             engine: SETTINGS,
-            collage: Some(data.join(file)),
+            collage: Some(collage),
             ..::studio::Config::new(Some(cafe.clone()), dir.clone())
         };
         let running = ::studio::serve(config).unwrap_or_else(|e| panic!("{file}: {e}"));
@@ -150,7 +169,7 @@ async fn opens_layered_and_tagged_collages_cut_elsewhere() {
     assert_eq!(client.request(json!({"type": "save"})).await["type"], "saved");
     drop(running);
     let config = ::studio::Config {
-        res: RES,
+        res: Some(RES),
         engine: SETTINGS,
         collage: Some(dir.join("collage.png")),
         ..::studio::Config::new(Some(scene()), dir.join("again"))

@@ -33,6 +33,17 @@ async fn refuses_what_it_must() {
     }
     let upgrade = format!("ws://{}/ws?token=nope", running.addr());
     assert!(tokio_tungstenite::connect_async(upgrade).await.is_err(), "a socket without the token");
+    // Issue 41, item 15: another site's page holding the token cannot open the socket: the
+    // Origin a browser sends must be the studio's own page.
+    for (origin, opens) in [
+        (format!("http://127.0.0.1:{port}"), true),
+        (format!("http://localhost:{port}"), true),
+        ("http://attacker.example".to_owned(), false),
+        (format!("http://attacker.example:{port}"), false),
+        ("null".to_owned(), false),
+    ] {
+        assert_eq!(socket_with_origin(&running, &origin).await, opens, "Origin {origin}");
+    }
 
     // An oversized message closes the socket and changes nothing.
     let mut client = Client::connect(&running).await;
@@ -51,4 +62,13 @@ async fn refuses_what_it_must() {
 
 async fn client_send_raw(client: &mut Client, text: String) -> Result<(), ()> {
     client.ws_mut().send(Message::Text(text.into())).await.map_err(|_| ())
+}
+
+/// Whether a WebSocket with the right token and `origin` as its Origin header opens.
+async fn socket_with_origin(running: &::studio::Running, origin: &str) -> bool {
+    use tokio_tungstenite::tungstenite::client::IntoClientRequest;
+    let url = format!("ws://{}/ws?token={}", running.addr(), running.token());
+    let mut request = url.into_client_request().unwrap();
+    request.headers_mut().insert("origin", origin.parse().unwrap());
+    tokio_tungstenite::connect_async(request).await.is_ok()
 }

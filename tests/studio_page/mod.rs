@@ -54,6 +54,45 @@ async fn viewport_points(b: &Browser, lay: &Layout, points: &[(f64, f64)]) -> Ve
     points.iter().map(|&(x, y)| (r[0] + x * sx, r[1] + y * sy)).collect()
 }
 
+/// Issue 41, item 18: before anything is painted the canvas shows the selected camera's view
+/// (not black) under a hint saying what to do, and each camera's first thumbnail is at least
+/// half the collage's size with 4 samples (not ¼ size at 1 spp). Selecting the other camera
+/// shows its view.
+async fn first_page_shows_the_views_and_says_what_to_do(b: &Browser, lay: &Layout, patience: Duration) {
+    let thumbs = b.js("return window.studio.thumbLog;", vec![]).await;
+    for camera in [1, 2] {
+        let first = thumbs.as_array().unwrap().iter().find(|t| t["camera"] == camera).expect("a thumbnail");
+        let (w, spp) = (first["w"].as_u64().unwrap() as u32, first["spp"].as_u64().unwrap());
+        assert!(w * 2 >= lay.res.0 && spp >= 4, "camera {camera}'s first thumbnail: {first}");
+    }
+    for camera in [1u32, 2] {
+        b.click(&format!("#camera-list li[data-index='{camera}'] .name")).await;
+        let drawn = format!(
+            "const d = window.studio.drawn; return !!d && d.empty === true && d.camera === {camera};"
+        );
+        b.wait_for("the selected camera's view on the empty canvas", &drawn, patience).await;
+        let hint = b
+            .js("const h = document.getElementById('hint'); return h.hidden ? '' : h.textContent;", vec![])
+            .await;
+        let hint = hint.as_str().unwrap();
+        assert!(
+            hint.contains("Nothing painted yet")
+                && hint.contains("Pick a camera")
+                && hint.contains(&format!("camera {camera}")),
+            "{hint:?}"
+        );
+        let canvas = b.bytes("const S = window.studio; return document.getElementById('canvas').getContext('2d').getImageData(0, 0, S.W, S.H).data;").await.unwrap();
+        let lit = lay.pixels().filter(|&p| lay.rgb_at(&canvas, p).iter().any(|&c| c > 8)).count();
+        let all = (lay.res.0 * lay.res.1) as usize;
+        assert!(
+            lit * 2 > all,
+            "camera {camera}'s view on the canvas: only {lit} of {all} pixels are not black"
+        );
+    }
+    save_screenshot(b, "0-first-page.png").await;
+    b.click("#camera-list li[data-index='1'] .name").await;
+}
+
 /// Paints stroke `s` with its camera: selects the camera in the list, then drags along the path.
 async fn paint_stroke(b: &Browser, lay: &Layout, s: usize) {
     let (camera, a, z) = lay.strokes[s];
@@ -187,6 +226,7 @@ fn paint_two_cameras_preview_save_and_render_final() {
         b.client.goto(&studio.url).await.expect("open the studio page");
         let thumbs = "return window.studio && window.studio.sources.filter(Boolean).length >= 2";
         b.wait_for("both cameras' thumbnails", thumbs, patience).await;
+        first_page_shows_the_views_and_says_what_to_do(&b, &lay, patience).await;
         reconnect(&b, patience).await;
         b.type_into("#size", &format!("{}", lay.brush)).await;
 
@@ -206,6 +246,8 @@ fn paint_two_cameras_preview_save_and_render_final() {
         paint_stroke(&b, &lay, 0).await;
         paint_stroke(&b, &lay, 1).await;
         b.wait_for("a preview of both strokes", "return !!window.studio.snaps.first", patience).await;
+        let hint_hidden = b.js("return document.getElementById('hint').hidden;", vec![]).await;
+        assert_eq!(hint_hidden, serde_json::json!(true), "the first-page hint is gone once something is painted");
         save_screenshot(&b, "1-strokes-first-preview.png").await;
 
         // (b) The preview refines while idle: between the strokes the canvas changes.

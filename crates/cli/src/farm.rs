@@ -8,7 +8,8 @@ use crate::args::{FrameRange, KeyArg, Resolution, Shutter};
 use crate::inbetween::ModeArg;
 use anyhow::{Context, bail};
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use farm::{FrameSpan, Key, Pass, Resources, Shot, Still};
+use farm::shot::Stage;
+use farm::{FrameSpan, Key, Pass, Resources, Shot, Still, StillStage};
 use std::path::PathBuf;
 use tracer::job::{Quality, SceneSetup};
 
@@ -72,6 +73,9 @@ struct JobArgs {
     /// farm's machines at this path.
     #[arg(long, value_name = "PATH")]
     mcctrace: Option<PathBuf>,
+    /// The cluster's largest node, read with `sinfo` on `--submit`.
+    #[arg(skip)]
+    node: Option<farm::NodeSize>,
 }
 
 /// The shot's own flags, refused beside --bands.
@@ -233,6 +237,7 @@ impl JobArgs {
             mem_mib: self.mem,
             time_minutes: self.time,
             partition: self.partition.clone(),
+            node: self.node,
         }
     }
 
@@ -317,23 +322,42 @@ impl JobArgs {
 
 pub fn run(a: FarmArgs) -> anyhow::Result<()> {
     match a.scheduler {
-        Scheduler::Slurm(s) => {
-            let (scripts, dir) = match s.job.still()? {
-                Some(still) => (still.write_slurm()?, still.dir),
+        Scheduler::Slurm(mut s) => {
+            if s.submit {
+                // The tasks' defaults fitted to the cluster, a flag asking more refused.
+                s.job.node = Some(farm::slurm::largest_node(s.job.partition.as_deref(), None)?);
+            }
+            let (scripts, dir, resources) = match s.job.still()? {
+                Some(still) => {
+                    let resources: Vec<_> =
+                        StillStage::ALL.iter().map(|&st| (st.name(), still.resources(st))).collect();
+                    (still.write_slurm()?, still.dir, resources)
+                }
                 None => {
                     let plan = s.job.shot()?.plan()?;
-                    (farm::slurm::write(&plan)?, plan.shot.dir)
+                    plan.check_inputs()?;
+                    let resources: Vec<_> =
+                        Stage::ALL.iter().map(|&st| (st.name(), plan.resources(st))).collect();
+                    (farm::slurm::write(&plan)?, plan.shot.dir, resources)
                 }
             };
+            for (stage, r) in resources.iter().filter(|(_, r)| r.was_lowered()) {
+                eprintln!("note: {stage}: {}", r.note());
+            }
             for (_, path) in &scripts.stages {
                 println!("wrote {}", path.display());
             }
             println!("wrote {}", scripts.submit.display());
             if s.submit {
-                for job in farm::slurm::submit(&scripts, None)? {
+                let jobs = farm::slurm::submit(&scripts, None)?;
+                for job in &jobs {
                     println!("{}: job {}", job.stage, job.job_id);
                 }
-                println!("logs: {}", dir.join("logs").display());
+                let ids: Vec<&str> = jobs.iter().map(|j| j.job_id.as_str()).collect();
+                println!(
+                    "{}",
+                    farm::slurm::follow_up(&dir.join("logs").display().to_string(), &ids.join(","))
+                );
             } else {
                 println!("submit with: bash {}", farm::slurm::submit_hint(&scripts));
             }
@@ -341,7 +365,11 @@ pub fn run(a: FarmArgs) -> anyhow::Result<()> {
         Scheduler::Openjd(job) => {
             let path = match job.still()? {
                 Some(still) => still.write_openjd()?,
-                None => farm::openjd::write(&job.shot()?.plan()?)?,
+                None => {
+                    let plan = job.shot()?.plan()?;
+                    plan.check_inputs()?;
+                    farm::openjd::write(&plan)?
+                }
             };
             println!("wrote {}", path.display());
             println!("check with: openjd check {0}\nrun locally: openjd run {0}", path.display());

@@ -17,9 +17,9 @@ pub struct StudioArgs {
     /// takes it (repeat; default: all the scene's cameras).
     #[arg(long = "camera", value_name = "NAME|NUMBER")]
     pub cameras: Vec<String>,
-    /// Collage resolution.
-    #[arg(long, default_value = "480x270")]
-    pub res: Resolution,
+    /// Collage resolution (default: the --collage's own size, else 480x270).
+    #[arg(long)]
+    pub res: Option<Resolution>,
     /// The first key's frame.
     #[arg(long, default_value_t = 0)]
     pub frame: u32,
@@ -60,7 +60,7 @@ pub fn run(a: StudioArgs) -> anyhow::Result<()> {
     };
     let config = ::studio::Config {
         cameras: a.cameras,
-        res: [a.res.0.x, a.res.0.y],
+        res: a.res.map(|r| [r.0.x, r.0.y]),
         frame: a.frame,
         collage: a.collage,
         listen: a.listen,
@@ -70,12 +70,47 @@ pub fn run(a: StudioArgs) -> anyhow::Result<()> {
     let running =
         ::studio::serve(config).with_context(|| format!("starting the studio on {}", a.input.display()))?;
     println!("studio: {}", running.url());
-    println!("project folder: {} (Ctrl-C stops the studio)", project.display());
+    println!("project folder: {} (Ctrl-C stops the studio, keeping unsaved changes)", project.display());
     if a.open {
         open_browser(running.url());
     }
-    running.wait();
+    wait_for_stop();
+    // Stopped: unsaved changes go to the autosave beside the project, and the user is told.
+    let kept = running.autosave().context("keeping the unsaved changes");
+    running.stop();
+    match kept? {
+        Some(dir) => println!(
+            "studio: stopped; unsaved changes kept in {} (the next `mcctrace studio` on this project offers to \
+             restore them)",
+            dir.display()
+        ),
+        None => {
+            println!("studio: stopped; no unsaved changes (the project folder holds the last save, if any)")
+        }
+    }
     Ok(())
+}
+
+/// Set by SIGINT or SIGTERM.
+static STOP: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+extern "C" fn on_stop_signal(_: libc::c_int) {
+    // Only an atomic store: all a signal handler may safely do.
+    STOP.store(true, std::sync::atomic::Ordering::SeqCst);
+}
+
+/// Returns once Ctrl-C (SIGINT) or SIGTERM arrives, instead of dying on it, so unsaved changes
+/// can be kept.
+fn wait_for_stop() {
+    let handler = on_stop_signal as extern "C" fn(libc::c_int) as libc::sighandler_t;
+    // SAFETY: the handler only stores to an atomic, which is async-signal-safe.
+    unsafe {
+        libc::signal(libc::SIGINT, handler);
+        libc::signal(libc::SIGTERM, handler);
+    }
+    while !STOP.load(std::sync::atomic::Ordering::SeqCst) {
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
 }
 
 /// Asks the desktop to open `url`; a failure is only a note (the URL is printed).

@@ -16,7 +16,7 @@ pub mod slurm;
 pub mod still;
 mod yaml;
 
-pub use shot::{FrameSpan, Key, Pass, Plan, Resources, Shot, ViewTask};
+pub use shot::{FrameSpan, Key, NodeSize, Pass, Plan, Resources, Shot, StageResources, ViewTask};
 pub use still::{Still, StillStage};
 
 use std::path::PathBuf;

@@ -9,8 +9,8 @@
 //! frames are skipped), and a failed stage cancels the ones after it (`--kill-on-invalid-dep`).
 
 use crate::quote::{sh, sh_words, wrap};
-use crate::shot::{Plan, Stage, StageResources, Word};
-use crate::{FarmError, Result, write_file};
+use crate::shot::{NodeSize, Plan, Stage, StageResources, Word};
+use crate::{FarmError, Result, bad, write_file};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -113,6 +113,7 @@ impl Header<'_> {
             t,
             "# Written by `mcctrace farm slurm`; edit freely. submit.sh submits the stages in order."
         );
+        let _ = writeln!(t, "# Resources: {}.", r.note());
         let _ = writeln!(t, "#SBATCH --job-name={}", job_name(self.dir, self.stage));
         if let Some(array) = &self.array {
             let _ = writeln!(t, "#SBATCH --array={array}");
@@ -223,7 +224,26 @@ pub(crate) fn chain_script(dir: &Path, stages: &[(&str, String)], resume: &str) 
             let _ = writeln!(t, "after=(--dependency=afterok:${name})");
         }
     }
+    let logs = dir.parent().unwrap_or(dir).join("logs");
+    let _ = writeln!(t, "logs={}", sh(&logs.display().to_string()));
+    let ids: Vec<String> = stages.iter().map(|(name, _)| format!("${name}")).collect();
+    for line in follow_up("$logs", &ids.join(",")).lines() {
+        let _ = writeln!(t, "echo \"{line}\"");
+    }
     t
+}
+
+/// How to see what happened to submitted jobs `ids` (comma-separated) whose logs go to `logs`:
+/// printed by `submit.sh` and `farm slurm --submit` (no `"`, `$` or backquote but in the
+/// arguments: `submit.sh` echoes it in double quotes).
+pub fn follow_up(logs: &str, ids: &str) -> String {
+    format!(
+        "logs: {logs}/ (one file per task, named after its job: JOBNAME-JOBID_TASK.out or JOBNAME-JOBID.out)\n\
+         A stage that fails cancels the stages after it: they never start, leave squeue and write no log.\n\
+         What happened to each job, and why it waits or ended: scontrol show job JOBID (for MinJobAge, \
+         300 s by default, after it ends)\n\
+         All their tasks: squeue --states=all --jobs={ids}"
+    )
 }
 
 /// Writes the stage scripts and `submit.sh` into `DIR/slurm/` (and makes `DIR/logs/`, where the
@@ -295,6 +315,44 @@ pub fn submit(scripts: &Scripts, sbatch: Option<&Path>) -> Result<Vec<Submitted>
         done.push(Submitted { stage, job_id: id });
     }
     Ok(done)
+}
+
+/// The largest node of the cluster (or of `partition`) as `sinfo` (on PATH, or the program
+/// given) lists its nodes: the most CPUs and the most memory any node has.
+pub fn largest_node(partition: Option<&str>, sinfo: Option<&Path>) -> Result<NodeSize> {
+    let sinfo = sinfo.unwrap_or(Path::new("sinfo"));
+    let fail = |message: String| {
+        bad("--submit", format!("reading the cluster's nodes with {}: {message}", sinfo.display()))
+    };
+    let mut cmd = Command::new(sinfo);
+    cmd.args(["--noheader", "--Node", "--format=%c %m"]);
+    if let Some(p) = partition {
+        cmd.arg(format!("--partition={p}"));
+    }
+    let out = cmd.output().map_err(|e| fail(format!("cannot run it: {e}")))?;
+    if !out.status.success() {
+        return Err(fail(format!(
+            "it exited with {}: {}",
+            out.status,
+            String::from_utf8_lossy(&out.stderr).trim()
+        )));
+    }
+    let mut most: Option<NodeSize> = None;
+    for line in String::from_utf8_lossy(&out.stdout).lines().filter(|l| !l.trim().is_empty()) {
+        let mut words = line.split_whitespace().map(|w| w.trim_end_matches('+').parse::<u64>());
+        let (Some(Ok(cpus)), Some(Ok(mem))) = (words.next(), words.next()) else {
+            return Err(fail(format!("{line:?} is not `CPUS MEMORY`")));
+        };
+        let cpus = u32::try_from(cpus).unwrap_or(u32::MAX);
+        let m = most.get_or_insert(NodeSize { cpus, mem_mib: mem });
+        *m = NodeSize { cpus: m.cpus.max(cpus), mem_mib: m.mem_mib.max(mem) };
+    }
+    most.ok_or_else(|| {
+        fail(match partition {
+            Some(p) => format!("partition {p} has no node"),
+            None => "the cluster has no node".to_owned(),
+        })
+    })
 }
 
 /// The same, as the words a user types (for messages).
@@ -475,10 +533,11 @@ mod tests {
         let path = format!("{}:{}", bin.display(), std::env::var("PATH").unwrap_or_default());
         let out = Command::new("bash").arg(&scripts.submit).env("PATH", path).output().unwrap();
         assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-        assert_eq!(
-            String::from_utf8_lossy(&out.stdout),
-            "views: job 11\nkeys: job 12\nframes: job 13\ncheck: job 14\n"
-        );
+        let said = String::from_utf8_lossy(&out.stdout);
+        assert!(said.starts_with("views: job 11\nkeys: job 12\nframes: job 13\ncheck: job 14\n"), "{said}");
+        // And how to see what happened, with the real ids and the log folder (issue 41, item 7).
+        assert!(said.contains(&format!("logs: {}/ ", plan.path("logs").display())), "{said}");
+        assert!(said.contains("scontrol show job JOBID") && said.contains("--jobs=11,12,13,14\n"), "{said}");
         let calls = std::fs::read_to_string(&log).unwrap();
         assert_eq!(calls.lines().nth(3), Some("--parsable --dependency=afterok:13 4-check.sbatch"));
     }

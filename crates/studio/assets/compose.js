@@ -82,6 +82,18 @@ function compose(d) {
   const n = W * H;
   const o = out.data;
   const shown = { mode: d.mode, seq: -1, spp: 0, pending: !!d.pending, paints: d.paints };
+  if (d.mode === 'final' && d.labels.every((l) => l === 0)) {
+    // Nothing painted yet (the server makes no preview of an empty collage): the selected
+    // camera's view, so a first page shows the scene rather than a black canvas; the page says
+    // what to do.
+    shown.empty = true;
+    fctx.fillStyle = '#000';
+    fctx.fillRect(0, 0, W, H);
+    const src = sources[d.selected];
+    if (src) fctx.putImageData(new ImageData(new Uint8ClampedArray(src.px), W, H), 0, 0);
+    shown.camera = src ? d.selected : 0;
+    return shown;
+  }
   if (d.mode === 'final') {
     // The server's preview is the composite (docs/studio.md, "Engine"), shown as it came. Only
     // while a stroke waits for its preview do painted pixels take their camera's view (or

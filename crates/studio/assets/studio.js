@@ -25,7 +25,7 @@
     selection: null, clipboard: null, paintIds: new Set(), cameraIds: new Set(),
     // Replies go to every tab: ids start at random so one tab never takes another's as its own.
     nextId: 1 + Math.floor(Math.random() * 1e9),
-    longTasks: [], errors: [],
+    longTasks: [], errors: [], thumbLog: [],
   };
   window.studio = S;
   // A script error is an error of the page: kept with the server's, for the browser test.
@@ -119,7 +119,7 @@
   // `socket message` in the record says which kind it was.
   const byType = new Map();
   function onMessage(m) {
-    const type = ['state', 'labels', 'progress', 'saved', 'error', 'final', 'image'].includes(m.type) ? m.type : 'other';
+    const type = ['state', 'labels', 'progress', 'saved', 'error', 'final', 'image', 'autosave'].includes(m.type) ? m.type : 'other';
     if (!byType.has(type)) byType.set(type, timed(`socket ${type}`, dispatch));
     byType.get(type)(m);
   }
@@ -132,9 +132,20 @@
       case 'error': onError(m); break;
       case 'final': onFinalDone(m); break;
       case 'image': pendingImage = m; break;
+      case 'autosave': onAutosave(m); break;
       default: break;
     }
   }
+
+  // An earlier session stopped with unsaved changes: offer them (every tab; gone once answered).
+  function onAutosave(m) {
+    S.autosave = m.dir;
+    const age = Number.isFinite(m.age_seconds) ? ` ${Math.round(m.age_seconds / 60)} min ago` : '';
+    $('autosave-text').textContent = m.dir ? `Unsaved changes of an earlier session (stopped${age}) were kept in ${m.dir}.` : '';
+    $('autosave').hidden = !m.dir;
+  }
+  on($('autosave-restore'), 'click', () => send({ type: 'autosave', restore: true }));
+  on($('autosave-discard'), 'click', () => send({ type: 'autosave', restore: false }));
 
   function onError(m) {
     S.errors.push(m.message);
@@ -212,6 +223,7 @@
       S.previewLog.push({ seq: h.seq, spp: h.spp, w, h: hgt, t: performance.now() });
       $('preview-info').textContent = `preview ${w}×${hgt}, ${h.spp} spp`;
     } else if (h.kind === 'thumb') {
+      S.thumbLog.push({ camera: h.camera, w, h: hgt, spp: h.spp });
       drawThumb(h.camera, bmp);
       bmp.close();
       const src = S.sources[h.camera];
@@ -328,6 +340,7 @@
     renderCameraList();
     fillCameraForm();
     if (S.mode === 'source' || S.mode === 'weights') setView(S.mode);
+    schedule();
   }
 
   // ---- the camera form and mouse controls ----------------------------------------------------
@@ -352,8 +365,11 @@
   });
   on(form, 'submit', (e) => e.preventDefault());
 
-  function sendCamera(c) {
-    S.cameraIds.add(send({ type: 'camera_edit', index: c.index, eye: c.eye, target: c.target, up: c.up, fov_deg: c.fov_deg }));
+  // Every edit of one drag (or one burst of wheel turns) carries the same gesture number: the
+  // server makes them one undo step.
+  let gesture = 0, wheelAt = -Infinity;
+  function sendCamera(c, g) {
+    S.cameraIds.add(send({ type: 'camera_edit', index: c.index, eye: c.eye, target: c.target, up: c.up, fov_deg: c.fov_deg, gesture: g }));
   }
 
   const sub = (a, b) => a.map((v, i) => v - b[i]);
@@ -366,7 +382,7 @@
   const rotate = (v, k, t) => add(add(mul(v, Math.cos(t)), mul(cross(k, v), Math.sin(t))), mul(k, dot(k, v) * (1 - Math.cos(t))));
 
   let camTimer = 0;
-  function moveCamera(c, kind, dx, dy) {
+  function moveCamera(c, kind, dx, dy, g) {
     const up = norm(c.up);
     const back = sub(c.eye, c.target);
     if (kind === 'orbit') {
@@ -389,7 +405,7 @@
     }
     fillCameraFormFrom(c);
     // At most one edit per 40 ms while dragging; the last one is always sent.
-    if (!camTimer) camTimer = setTimeout(timed('camera edit', () => { camTimer = 0; sendCamera(c); }), 40);
+    if (!camTimer) camTimer = setTimeout(timed('camera edit', () => { camTimer = 0; sendCamera(c, g); }), 40);
   }
   function fillCameraFormFrom(c) {
     for (let i = 0; i < 3; i++) { form[`eye${i}`].value = round(c.eye[i]); form[`target${i}`].value = round(c.target[i]); }
@@ -439,6 +455,7 @@
       drawOverlay();
       // What the canvas now shows, for the browser test's hook (`afterDraw`).
       S.drawn = shown;
+      showHint(shown);
       if (S.afterDraw) {
         const t = performance.now();
         S.afterDraw();
@@ -446,6 +463,19 @@
       }
     }
     if (dirty) schedule();
+  }
+
+  // Over a canvas with nothing painted: what it shows and what to do (changed only when it
+  // changes: no layout work per frame).
+  function showHint(shown) {
+    const empty = !!(shown && shown.empty && S.mode === 'final');
+    const c = empty && shown.camera ? camera(shown.camera) : null;
+    const text = !empty ? '' : `Nothing painted yet${c ? `: this is camera ${c.index} “${c.name}”` : ''}. `
+      + 'Pick a camera on the left (or press 1–9), then paint with the Brush where it should be seen; '
+      + 'the canvas then shows the collage as rendered.';
+    const hint = $('hint');
+    if (hint.textContent !== text) hint.textContent = text;
+    if (hint.hidden !== !empty) hint.hidden = !empty;
   }
 
   function drawOverlay() {
@@ -491,7 +521,7 @@
     const p = pixelAt(e);
     if (S.mode === 'source') {
       const c = camera(S.selected);
-      if (c) drag = { kind: e.shiftKey || e.button !== 0 ? 'pan' : 'orbit', last: e, camera: c };
+      if (c) drag = { kind: e.shiftKey || e.button !== 0 ? 'pan' : 'orbit', last: e, camera: c, gesture: ++gesture };
     } else if (S.tool === 'select') {
       const s = S.selection;
       const inside = s && p.x >= s.x && p.y >= s.y && p.x < s.x + s.w && p.y < s.y + s.h;
@@ -510,7 +540,7 @@
     const events = e.getCoalescedEvents ? e.getCoalescedEvents() : [e];
     if (drag.kind === 'paint') for (const ev of events.length ? events : [e]) strokeTo(pixelAt(ev));
     else if (drag.kind === 'orbit' || drag.kind === 'pan') {
-      moveCamera(drag.camera, drag.kind, e.clientX - drag.last.clientX, e.clientY - drag.last.clientY);
+      moveCamera(drag.camera, drag.kind, e.clientX - drag.last.clientX, e.clientY - drag.last.clientY, drag.gesture);
       drag.last = e;
     } else {
       const p = pixelAt(e);
@@ -536,7 +566,7 @@
     drag = null;
     if (d.kind === 'paint') endStroke();
     else if (d.kind === 'move' && (d.dx || d.dy)) moveSelection(d.dx, d.dy);
-    else if (d.kind === 'orbit' || d.kind === 'pan') { clearTimeout(camTimer); camTimer = 0; sendCamera(d.camera); }
+    else if (d.kind === 'orbit' || d.kind === 'pan') { clearTimeout(camTimer); camTimer = 0; sendCamera(d.camera, d.gesture); }
     schedule();
   }
   on(overlay, 'pointerup', endDrag);
@@ -545,7 +575,9 @@
     const c = camera(S.selected);
     if (S.mode !== 'source' || !c) return;
     e.preventDefault();
-    moveCamera(c, 'dolly', 0, e.deltaY);
+    if (e.timeStamp - wheelAt > 400) ++gesture;
+    wheelAt = e.timeStamp;
+    moveCamera(c, 'dolly', 0, e.deltaY, gesture);
   }, { passive: false });
 
   // ---- tools, buttons, keys -------------------------------------------------------------------

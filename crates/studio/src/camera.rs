@@ -111,8 +111,14 @@ mod tests {
         let back = cam.desc().unwrap();
         assert!(back.world_from_camera.abs_diff_eq(desc.world_from_camera, 1e-5));
         assert!((cam.fov_deg - 0.8f32.to_degrees()).abs() < 1e-4);
-        let edit =
-            CameraEdit { index: 2, eye: [0.0; 3], target: [0.0; 3], up: [0.0, 1.0, 0.0], fov_deg: 50.0 };
+        let edit = CameraEdit {
+            index: 2,
+            eye: [0.0; 3],
+            target: [0.0; 3],
+            up: [0.0, 1.0, 0.0],
+            fov_deg: 50.0,
+            gesture: None,
+        };
         assert!(cam.edited(&edit).is_err(), "a target at the eye is refused");
         let edit = CameraEdit { target: [0.0, 0.0, -1.0], fov_deg: 190.0, ..edit };
         assert!(cam.edited(&edit).is_err());

@@ -47,6 +47,14 @@ impl Client {
         Self { ws, next_id: 1 }
     }
 
+    /// Connects to the socket of the studio whose page is at `url`, as `mcctrace studio`
+    /// prints it (`http://HOST/?token=…`).
+    pub async fn connect_url(url: &str) -> Self {
+        let url = url.replacen("http://", "ws://", 1).replacen("/?token=", "/ws?token=", 1);
+        let (ws, _) = tokio_tungstenite::connect_async(url).await.expect("the socket opens");
+        Self { ws, next_id: 1 }
+    }
+
     /// The socket itself.
     pub fn ws_mut(&mut self) -> &mut Ws {
         &mut self.ws

@@ -33,8 +33,9 @@ pub struct Config {
     pub project: PathBuf,
     /// Cameras to start with, by name (all the scene's when empty).
     pub cameras: Vec<String>,
-    /// Collage width and height.
-    pub res: [u32; 2],
+    /// Collage width and height (`None`: the collage's own size when one is given, else
+    /// [`Config::DEFAULT_RES`]).
+    pub res: Option<[u32; 2]>,
     /// The first key's frame.
     pub frame: u32,
     /// An existing collage (a tagged image or layered file, e.g. cut in an editor) to start from.
@@ -50,7 +51,7 @@ pub struct Config {
 }
 
 impl Config {
-    /// The default resolution of a collage.
+    /// The resolution of a new collage when neither `--res` nor a collage gives one.
     pub const DEFAULT_RES: [u32; 2] = [480, 270];
 
     /// A new session on `scene`, saving to `project`, with the defaults.
@@ -59,7 +60,7 @@ impl Config {
             scene,
             project,
             cameras: Vec::new(),
-            res: Self::DEFAULT_RES,
+            res: None,
             frame: 0,
             collage: None,
             listen: IpAddr::V4(Ipv4Addr::LOCALHOST),

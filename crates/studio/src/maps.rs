@@ -17,8 +17,8 @@ pub const HISTORY: usize = 256;
 enum Step {
     /// A patch: (pixel index, before, after) for each changed pixel of `layer`.
     Patch { layer: Layer, changes: Vec<(u32, u8, u8)> },
-    /// A camera edit: the camera before and after it.
-    Camera { before: Box<StudioCamera>, after: Box<StudioCamera> },
+    /// A camera edit: the camera before and after it, and the drag it belongs to, if any.
+    Camera { before: Box<StudioCamera>, after: Box<StudioCamera>, gesture: Option<u64> },
 }
 
 /// What an undo or redo changed.
@@ -117,9 +117,27 @@ impl Maps {
         true
     }
 
-    /// Records a camera edit (`before` → `after`) as one undo step.
-    pub fn camera_edited(&mut self, before: StudioCamera, after: StudioCamera) {
-        self.push(Step::Camera { before: Box::new(before), after: Box::new(after) });
+    /// Records a camera edit (`before` → `after`) as one undo step. The edits of one drag
+    /// (the page sends one every 40 ms, all with the drag's `gesture` number) make one step:
+    /// an edit of the same camera in the same gesture as the last step extends it. An edit that
+    /// changes nothing records nothing, so an undo always undoes something.
+    pub fn camera_edited(&mut self, before: StudioCamera, after: StudioCamera, gesture: Option<u64>) {
+        if let (Some(g), Some(Step::Camera { before: first, after: last, gesture: Some(top) })) =
+            (gesture, self.undo.last_mut())
+            && g == *top
+            && first.index == after.index
+            && self.redo.is_empty()
+        {
+            if **first == after {
+                self.undo.pop();
+            } else {
+                **last = after;
+            }
+            return;
+        }
+        if before != after {
+            self.push(Step::Camera { before: Box::new(before), after: Box::new(after), gesture });
+        }
     }
 
     /// A new step: the oldest goes past [`HISTORY`], the redo history is dropped.

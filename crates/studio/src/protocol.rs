@@ -46,6 +46,9 @@ pub struct CameraEdit {
     pub up: [f32; 3],
     /// Vertical field of view in degrees.
     pub fov_deg: f32,
+    /// The drag this edit belongs to (the page numbers its drags): one drag is one undo step.
+    #[serde(default)]
+    pub gesture: Option<u64>,
 }
 
 /// A message from the page.
@@ -102,6 +105,11 @@ pub enum Request {
     },
     /// Stop the final render.
     CancelFinal,
+    /// Answer the offer of an earlier session's autosave.
+    Autosave {
+        /// Restore it (else discard it).
+        restore: bool,
+    },
 }
 
 /// A parsed message with its id.

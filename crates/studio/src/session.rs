@@ -70,6 +70,9 @@ pub struct Session {
     pub view: (ViewMode, Option<u32>),
     /// Grows with every change that makes images stale; images carry it.
     pub seq: u64,
+    /// Grows with every edit a save keeps (strokes, undo, cameras, keys, the blend) and not with
+    /// what the canvas shows: unsaved changes are edits since the last save.
+    pub edits: u64,
 }
 
 impl Session {
@@ -82,6 +85,7 @@ impl Session {
             seamless: false,
             view: (ViewMode::Final, None),
             seq: 1,
+            edits: 0,
         }
     }
 
@@ -148,6 +152,7 @@ impl Session {
         let changed = self.key_mut().maps.paint(layer, rect, &bytes);
         if changed {
             self.seq += 1;
+            self.edits += 1;
         }
         Ok(changed)
     }
@@ -166,17 +171,19 @@ impl Session {
             }
         };
         self.seq += 1;
+        self.edits += 1;
         Some(layer)
     }
 
-    /// Moves a camera (checked first), as one undo step.
+    /// Moves a camera (checked first), as one undo step (with the other edits of its drag).
     pub fn edit_camera(&mut self, edit: &crate::protocol::CameraEdit) -> Result<()> {
         let before = self.key().camera(edit.index)?.clone();
         let moved = before.edited(edit)?;
         let key = self.key_mut();
         key.cameras[edit.index as usize - 1] = moved.clone();
-        key.maps.camera_edited(before, moved);
+        key.maps.camera_edited(before, moved, edit.gesture);
         self.seq += 1;
+        self.edits += 1;
         Ok(())
     }
 
@@ -191,6 +198,7 @@ impl Session {
         let copy = StudioCamera { index: new, name: format!("{} copy", copy.name), ..copy };
         self.key_mut().cameras.push(copy);
         self.seq += 1;
+        self.edits += 1;
         Ok(new)
     }
 
@@ -203,6 +211,7 @@ impl Session {
         if !self.keys.contains_key(&frame) {
             let [w, h] = self.res;
             self.keys.insert(frame, Key { cameras: cameras()?, maps: Maps::new(w, h) });
+            self.edits += 1;
         }
         self.frame = frame;
         self.seq += 1;
@@ -228,6 +237,7 @@ impl Session {
         if self.seamless != seamless {
             self.seamless = seamless;
             self.seq += 1;
+            self.edits += 1;
         }
     }
 }

@@ -97,6 +97,18 @@ pub struct Resources {
     pub time_minutes: Option<u32>,
     /// The partition (queue); the cluster's default if `None`.
     pub partition: Option<String>,
+    /// The largest node the tasks can run on, when known (`sinfo`, on `--submit`): defaults are
+    /// fitted to it and a flag asking more is refused, since such a task would pend forever.
+    pub node: Option<NodeSize>,
+}
+
+/// What the largest node of a cluster (or partition) offers one task.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct NodeSize {
+    /// CPUs.
+    pub cpus: u32,
+    /// Memory, MiB.
+    pub mem_mib: u64,
 }
 
 /// The whole shot.
@@ -202,6 +214,31 @@ impl Resources {
                 format!("{p:?} is not a partition name (letters, digits, - _ . ,)"),
             ));
         }
+        let Some(node) = self.node else { return Ok(()) };
+        let nodes = match &self.partition {
+            Some(p) => format!("partition {p}'s largest node"),
+            None => "the cluster's largest node".to_owned(),
+        };
+        if let Some(cpus) = self.cpus.filter(|&c| c > node.cpus) {
+            return Err(bad(
+                "--cpus-per-task",
+                format!(
+                    "{cpus} CPUs per task, but {nodes} has {} (sinfo): the tasks would pend forever; \
+                     give --cpus-per-task {} or less",
+                    node.cpus, node.cpus
+                ),
+            ));
+        }
+        if let Some(mem) = self.mem_mib.filter(|&m| m > node.mem_mib) {
+            return Err(bad(
+                "--mem",
+                format!(
+                    "{mem} MiB per task, but {nodes} has {} MiB (sinfo): the tasks would pend forever; \
+                     give --mem {}M or less",
+                    node.mem_mib, node.mem_mib
+                ),
+            ));
+        }
         Ok(())
     }
 
@@ -209,13 +246,19 @@ impl Resources {
     /// `samples` samples (0: renders nothing) and holding `layers` pictures' worth of memory.
     pub(crate) fn for_task(&self, pixels: u64, samples: u64, layers: u64) -> StageResources {
         // Small pictures do not pay for a second thread's start-up; larger ones get four.
-        let cpus = self.cpus.unwrap_or(if samples == 0 || pixels <= 256 * 256 { 1 } else { 4 });
-        let mem_mib =
-            self.mem_mib.unwrap_or(BASE_MIB + (pixels * BYTES_PER_PIXEL * layers).div_ceil(1 << 20));
+        let default_cpus = if samples == 0 || pixels <= 256 * 256 { 1 } else { 4 };
+        let default_mem = BASE_MIB + (pixels * BYTES_PER_PIXEL * layers).div_ceil(1 << 20);
+        // Fitted to the largest node, if known: a task asking more than any node has never starts.
+        let fitted_cpus = self.node.map_or(default_cpus, |n| default_cpus.min(n.cpus.max(1)));
+        let fitted_mem = self.node.map_or(default_mem, |n| default_mem.min(n.mem_mib.max(1)));
+        let cpus = self.cpus.unwrap_or(fitted_cpus);
+        let mem_mib = self.mem_mib.unwrap_or(fitted_mem);
+        let lowered = (self.cpus.is_none() && fitted_cpus < default_cpus).then_some(default_cpus);
+        let lowered_mem = (self.mem_mib.is_none() && fitted_mem < default_mem).then_some(default_mem);
         let minutes = (samples / (SAMPLES_PER_CPU_SECOND * u64::from(cpus))).div_ceil(60);
         let time_minutes =
             self.time_minutes.unwrap_or((4 * minutes).max(LEAST_MINUTES).min(u64::from(u32::MAX)) as u32);
-        StageResources { cpus, mem_mib, time_minutes }
+        StageResources { cpus, mem_mib, time_minutes, node: self.node, lowered: (lowered, lowered_mem) }
     }
 }
 
@@ -228,6 +271,52 @@ pub struct StageResources {
     pub mem_mib: u64,
     /// Time limit per task, minutes.
     pub time_minutes: u32,
+    /// The node the defaults were fitted to (`None`: the cluster is not known).
+    pub node: Option<NodeSize>,
+    /// The default CPUs and memory before fitting, where fitting lowered them.
+    pub lowered: (Option<u32>, Option<u64>),
+}
+
+impl StageResources {
+    /// What a stage's script says of its resources: fitted to the cluster's largest node (and
+    /// what fitting lowered), or the assumption made without knowing the cluster.
+    pub fn note(&self) -> String {
+        let (cpus, mem) = (self.cpus, self.mem_mib);
+        match (self.node, self.lowered) {
+            (None, _) => format!(
+                "each task asks {cpus} CPUs and {mem} MiB: a cluster with no node that large keeps it \
+                 pending for ever (squeue: PartitionConfig or Resources); give --cpus-per-task / \
+                 --mem, or submit with `mcctrace farm slurm --submit`, which fits the defaults to the \
+                 cluster's nodes"
+            ),
+            (Some(n), (None, None)) => {
+                format!(
+                    "each task asks {cpus} CPUs and {mem} MiB; the largest node has {} and {} MiB",
+                    n.cpus, n.mem_mib
+                )
+            }
+            (Some(n), (c, m)) => {
+                let mut lowered = Vec::new();
+                if let Some(c) = c {
+                    lowered.push(format!("{cpus} CPUs per task instead of the default {c}"));
+                }
+                if let Some(m) = m {
+                    lowered.push(format!("{mem} MiB instead of the default {m}"));
+                }
+                format!(
+                    "{}: the cluster's largest node has {} CPUs and {} MiB (sinfo)",
+                    lowered.join(", "),
+                    n.cpus,
+                    n.mem_mib
+                )
+            }
+        }
+    }
+
+    /// Whether fitting to the cluster lowered a default.
+    pub fn was_lowered(&self) -> bool {
+        self.lowered != (None, None)
+    }
 }
 
 /// The shot's tasks: what every stage runs.
@@ -424,5 +513,6 @@ impl Plan {
 /// missing, damaged or stale frame and fail if there is one, else write the preview.
 const CHECK_FLAGS: [&str; 1] = ["--check"];
 
+mod inputs;
 #[cfg(test)]
 pub(crate) mod tests;

@@ -138,9 +138,12 @@ fn resources_default_from_the_render_settings_and_yield_to_the_shot() {
     assert_eq!(u64::from(big.time_minutes), 4 * (samples / 400_000).div_ceil(60));
     assert!(big.mem_mib > small.mem_mib && big.mem_mib >= 1920 * 1080 * 512 / (1 << 20));
     f.shot.resources =
-        Resources { cpus: Some(2), mem_mib: Some(300), time_minutes: Some(7), partition: None };
+        Resources { cpus: Some(2), mem_mib: Some(300), time_minutes: Some(7), partition: None, node: None };
     let given = f.shot.plan().unwrap().resources(Stage::Frames);
-    assert_eq!(given, StageResources { cpus: 2, mem_mib: 300, time_minutes: 7 });
+    assert_eq!(
+        given,
+        StageResources { cpus: 2, mem_mib: 300, time_minutes: 7, node: None, lowered: (None, None) }
+    );
 }
 
 #[track_caller]

@@ -64,6 +64,12 @@ pub struct Shared {
     pub final_cancel: AtomicBool,
     /// Serialises saves (several tabs: the last save wins, whole).
     pub save_lock: Mutex<()>,
+    /// The session's `edits` when it was last saved (or opened): fewer than now means unsaved
+    /// changes, which stopping the studio keeps in the autosave.
+    pub saved_edits: AtomicU64,
+    /// An autosave an earlier session left beside the project, offered to the page until it is
+    /// restored or discarded.
+    pub autosave: Mutex<Option<PathBuf>>,
     /// The threads every preview, save and final render runs on, below the page's priority.
     pub pool: rayon::ThreadPool,
 }
@@ -85,6 +91,8 @@ impl Shared {
             .map_err(|e| crate::error::StudioError::Server(format!("starting the render threads: {e}")))?;
         Ok(Self {
             seq: AtomicU64::new(session.seq),
+            saved_edits: AtomicU64::new(session.edits),
+            autosave: Mutex::new(None),
             session: Mutex::new(session),
             wake: Condvar::new(),
             out,
@@ -98,6 +106,11 @@ impl Shared {
             save_lock: Mutex::new(()),
             pool,
         })
+    }
+
+    /// The autosave offered to the page, if any.
+    pub fn autosave_offered(&self) -> Option<PathBuf> {
+        self.autosave.lock().unwrap_or_else(|e| e.into_inner()).clone()
     }
 
     /// The session, locked (a panic elsewhere does not lock it forever).

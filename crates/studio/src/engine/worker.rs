@@ -33,7 +33,16 @@ struct CameraCache {
     rays: RayFile,
     thumb: Option<RgbImage>,
     view: Option<RgbImage>,
+    /// No thumbnail of this camera has been shown yet: its first is a recognisable one.
+    first: bool,
 }
+
+/// The first thumbnail of a camera (what a new page shows before anything is painted): half the
+/// collage's size at this many samples, recognisable where the ¼-size, 1-spp thumbnail of a
+/// camera move (made for speed while dragging) is a blur. On the café at 480×270 it costs about
+/// 16 times a move's thumbnail, once per camera.
+const FIRST_THUMB_DIVISOR: u32 = 2;
+const FIRST_THUMB_SPP: u32 = 4;
 
 /// The preview worker's caches.
 pub struct Worker {
@@ -104,11 +113,16 @@ impl Worker {
         self.update_rays(snap)?;
         // Moved cameras' thumbnails first: the page shows a camera move there.
         let coarse = self.coarse(snap);
+        let d = self.shared.settings.coarse_divisor.clamp(1, FIRST_THUMB_DIVISOR);
+        let first_size = UVec2::new((snap.res[0] / d).max(1), (snap.res[1] / d).max(1));
         for cam in &snap.cameras {
-            if self.cameras[&cam.index].thumb.is_none() {
-                let image = self.render_view(&tracer, snap, cam, coarse, 1, &stale)?;
-                self.send(snap, ImageKind::Thumb, Some(cam.index), 1, &srgb(&image))?;
-                self.cameras.get_mut(&cam.index).expect("updated").thumb = Some(image);
+            let cache = &self.cameras[&cam.index];
+            if cache.thumb.is_none() {
+                let (size, spp) = if cache.first { (first_size, FIRST_THUMB_SPP) } else { (coarse, 1) };
+                let image = self.render_view(&tracer, snap, cam, size, spp, &stale)?;
+                self.send(snap, ImageKind::Thumb, Some(cam.index), spp, &srgb(&image))?;
+                let cache = self.cameras.get_mut(&cam.index).expect("updated");
+                (cache.thumb, cache.first) = (Some(image), false);
             }
         }
         let res = UVec2::new(snap.res[0], snap.res[1]);
@@ -172,7 +186,9 @@ impl Worker {
             let chain = LensChain::new();
             let info = FrameInfo { frame: snap.frame, camera_id: cam.index, shutter: (0.0, 0.0) };
             let rays = pixel_centre_rays(&chain.generator(camera.as_ref()), res, info, Vec::new())?;
-            self.cameras.insert(cam.index, CameraCache { key: cam.key(), rays, thumb: None, view: None });
+            let first = self.cameras.get(&cam.index).is_none_or(|c| c.first);
+            self.cameras
+                .insert(cam.index, CameraCache { key: cam.key(), rays, thumb: None, view: None, first });
         }
         Ok(())
     }

@@ -108,6 +108,9 @@ pub fn render_final(shared: &Shared, res: [u32; 2], spp: u32) -> Result<(PathBuf
         resolution: Some(UVec2::new(res[0], res[1])),
         quality,
         rays_from: Some((COLLAGE_KEY, collage)),
+        // The scene's setup (frame rate, overrides) goes in the header as `rerender` records it.
+        environment_map: shared.source.setup.environment_image.clone(),
+        setup: Some(shared.source.setup.clone()),
         ..Rerender::new(remapped.output.rays.clone(), frame)
     };
     let tracer = shared.source.tracer(frame, &quality)?;

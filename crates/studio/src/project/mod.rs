@@ -9,7 +9,11 @@
 //! views/frameFFFFcameraCC.{exr,png,mcr}  every key's views (`render --tag --lens-writer`)
 //! final/rerender-frameFFFF.{exr,png,mcr} the last "render final" (as `rerender` writes it)
 //! ```
+//!
+//! Unsaved changes left when the studio stops go to `PROJECT.autosave/`, a project folder of the
+//! same layout beside it ([`autosave`]).
 
+pub mod autosave;
 mod final_render;
 mod save;
 
@@ -122,15 +126,25 @@ fn check_cameras(cameras: &[StudioCamera]) -> Result<()> {
 }
 
 /// The label map of a collage file (a tagged image, or a layered OpenRaster or PSD file cut in
-/// an editor, its layers named after `cameras` or their numbers) and its region map (the
+/// an editor, its layers named after `cameras` or their numbers; a layer `NAME (camera N)` that
+/// `render --layers` wrote is the session's camera NAME, since N is that render's numbering) and
+/// its region map (the
 /// file's `regions` group, else the region image beside it, if any): read by the batch
 /// remapper's own reader, `mcc::layers::open_collage`.
-pub fn read_collage(path: &Path, res: [u32; 2], cameras: &[StudioCamera]) -> Result<Maps> {
-    let known: std::collections::BTreeSet<u32> = cameras.iter().map(|c| c.index).collect();
-    let names = CameraNames::with_names(Some(known), cameras.iter().map(|c| (c.name.clone(), c.index)));
+/// `res` is the size the collage must have (`None`: its own, checked like `--res`).
+pub fn read_collage(path: &Path, res: Option<[u32; 2]>, cameras: &[StudioCamera]) -> Result<Maps> {
+    let names = CameraNames::session(cameras.iter().map(|c| (c.name.clone(), c.index)));
     let opened = mcc::layers::open_collage(path, None, &names, mcc::CollageOptions::default())?;
     let collage = opened.collage;
-    let [w, h] = res;
+    let [w, h] = match res {
+        Some(res) => res,
+        None => {
+            let own = [collage.width, collage.height];
+            check_res(own)
+                .map_err(|e| StudioError::Project { path: path.to_path_buf(), message: e.to_string() })?;
+            own
+        }
+    };
     collage.check_size(path, w, h, "the studio's resolution (--res)")?;
     let labels = collage
         .ids
@@ -164,30 +178,38 @@ pub fn open_session(config: &Config) -> Result<Shared> {
     let project = config.project.clone();
     let (session, source) = match &config.scene {
         Some(scene) => {
-            check_res(config.res)?;
+            if let Some(res) = config.res {
+                check_res(res)?;
+            }
             let source = SceneSource::load(scene.clone(), config.cameras.clone())?;
             let cameras = source.cameras(config.frame)?;
             check_cameras(&cameras)?;
-            let [w, h] = config.res;
+            // Without `--res` a collage keeps its own size (issue 41).
             let maps = match &config.collage {
                 Some(path) => read_collage(path, config.res, &cameras)?,
-                None => Maps::new(w, h),
+                None => {
+                    let [w, h] = config.res.unwrap_or(Config::DEFAULT_RES);
+                    Maps::new(w, h)
+                }
             };
-            (Session::new(config.res, config.frame, Key { cameras, maps }), source)
+            let res = [maps.width, maps.height];
+            (Session::new(res, config.frame, Key { cameras, maps }), source)
         }
         None => open_project(&project)?,
     };
     let engine = crate::EngineSettings { ..config.engine };
-    Shared::new(session, source, engine, project)
+    let shared = Shared::new(session, source, engine, project)?;
+    autosave::offer(&shared);
+    Ok(shared)
 }
 
 /// Opens the project saved in `dir`.
-fn open_project(dir: &Path) -> Result<(Session, SceneSource)> {
+pub(crate) fn open_project(dir: &Path) -> Result<(Session, SceneSource)> {
     let file = ProjectFile::read(dir)?;
     let source = SceneSource::load(file.scene.clone(), file.scene_cameras.clone())?;
     let mut keys = std::collections::BTreeMap::new();
     for key in &file.keys {
-        let maps = read_collage(&dir.join(&key.collage), file.res, &key.cameras)?;
+        let maps = read_collage(&dir.join(&key.collage), Some(file.res), &key.cameras)?;
         keys.insert(key.frame, Key { cameras: key.cameras.clone(), maps });
     }
     let mut session = Session::new(file.res, file.frame, keys.remove(&file.frame).expect("checked"));

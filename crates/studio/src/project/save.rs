@@ -28,19 +28,30 @@ pub fn key_collage(frame: u32) -> PathBuf {
     Path::new(KEYS).join(format!("frame{frame:04}.png"))
 }
 
-/// Writes the project folder; returns it. Its views render on the studio's render threads.
+/// Writes the project folder; returns it. Its views render on the studio's render threads. The
+/// session is saved then: an autosave beside the project is obsolete and goes.
 pub fn save(shared: &Shared) -> Result<PathBuf> {
-    // A second tab's save waits here, outside the pool, not on one of its render threads.
-    let _one_at_a_time = shared.save_lock.lock().unwrap_or_else(|e| e.into_inner());
-    shared.pool.install(|| save_on_pool(shared))
+    let edits = save_into(shared, &shared.project)?;
+    shared.saved_edits.fetch_max(edits, std::sync::atomic::Ordering::SeqCst);
+    let autosave = super::autosave::autosave_dir(&shared.project);
+    if autosave.join(PROJECT_FILE).is_file() && shared.autosave_offered().is_none() {
+        std::fs::remove_dir_all(&autosave).map_err(|e| StudioError::io(&autosave, e))?;
+    }
+    Ok(shared.project.clone())
 }
 
-fn save_on_pool(shared: &Shared) -> Result<PathBuf> {
-    let (keys, res, frame, seamless) = {
+/// Writes the session as a project folder into `dir`; returns the session's `edits` it holds.
+pub(super) fn save_into(shared: &Shared, dir: &Path) -> Result<u64> {
+    // A second tab's save waits here, outside the pool, not on one of its render threads.
+    let _one_at_a_time = shared.save_lock.lock().unwrap_or_else(|e| e.into_inner());
+    shared.pool.install(|| save_on_pool(shared, dir))
+}
+
+fn save_on_pool(shared: &Shared, dir: &Path) -> Result<u64> {
+    let (keys, res, frame, seamless, edits) = {
         let s = shared.session();
-        (s.keys.clone(), s.res, s.frame, s.seamless)
+        (s.keys.clone(), s.res, s.frame, s.seamless, s.edits)
     };
-    let dir = &shared.project;
     let views = dir.join(VIEWS);
     std::fs::create_dir_all(&views).map_err(|e| StudioError::io(&views, e))?;
     std::fs::create_dir_all(dir.join(KEYS)).map_err(|e| StudioError::io(dir.join(KEYS), e))?;
@@ -73,7 +84,7 @@ fn save_on_pool(shared: &Shared) -> Result<PathBuf> {
     let text = serde_json::to_string_pretty(&file).expect("a project file serialises");
     let path = dir.join(PROJECT_FILE);
     tracer::atomic::write_atomically(&path, |w| std::io::Write::write_all(w, text.as_bytes()))?;
-    Ok(dir.clone())
+    Ok(edits)
 }
 
 /// Renders and writes the views of `key` that are not on disk with their current pose.

@@ -24,6 +24,9 @@ pub fn current(shared: &Shared, id: Option<u64>) -> Vec<Outbound> {
     let mut all = vec![session.state(id), session.labels(Layer::Labels), session.labels(Layer::Regions)];
     drop(session);
     all.extend(shared.latest());
+    if shared.autosave_offered().is_some() {
+        all.push(crate::project::autosave::message(shared));
+    }
     all
 }
 
@@ -67,6 +70,11 @@ fn run(shared: &Arc<Shared>, id: Option<u64>, request: Request) -> Result<Vec<Ou
         }
         Request::CancelFinal => {
             shared.final_cancel.store(true, std::sync::atomic::Ordering::SeqCst);
+            return Ok(Vec::new());
+        }
+        Request::Autosave { restore } => {
+            drop(session);
+            crate::project::autosave::answer(shared, restore)?;
             return Ok(Vec::new());
         }
     }

@@ -69,6 +69,17 @@ impl Running {
         }
     }
 
+    /// Keeps unsaved changes in the autosave beside the project (docs/studio.md, "Autosave");
+    /// returns its folder, or `None` when nothing was unsaved.
+    pub fn autosave(&self) -> Result<Option<std::path::PathBuf>> {
+        crate::project::autosave::autosave(&self.shared)
+    }
+
+    /// The project folder saves go to.
+    pub fn project(&self) -> &std::path::Path {
+        &self.shared.project
+    }
+
     /// Stops the server and the engine.
     pub fn stop(mut self) {
         self.halt();
