@@ -165,20 +165,20 @@ fn parse(view: usize, e: &Value) -> Result<Compressed, String> {
         filter,
     };
     let stride_ok = match c.mode {
-        Mode::Attributes => c.stride > 0 && c.stride <= 256 && c.stride % 4 == 0,
+        Mode::Attributes => c.stride > 0 && c.stride <= 256 && c.stride.is_multiple_of(4),
         Mode::Triangles | Mode::Indices => c.stride == 2 || c.stride == 4,
     };
     if !stride_ok {
         return Err(format!("byteStride {} is not allowed for mode {:?}", c.stride, c.mode));
     }
-    if c.mode == Mode::Triangles && c.count % 3 != 0 {
+    if c.mode == Mode::Triangles && !c.count.is_multiple_of(3) {
         return Err(format!("count {} of mode TRIANGLES is not a multiple of 3", c.count));
     }
     let filter_ok = match c.filter {
         Filter::None => true,
         Filter::Octahedral | Filter::Color => c.stride == 4 || c.stride == 8,
         Filter::Quaternion => c.stride == 8,
-        Filter::Exponential => c.stride % 4 == 0,
+        Filter::Exponential => c.stride.is_multiple_of(4),
     };
     if c.filter != Filter::None && c.mode != Mode::Attributes || !filter_ok {
         return Err(format!(
