@@ -33,6 +33,13 @@ fn worst_corner_distance(a: &[[Vec3; 3]], b: &[[Vec3; 3]]) -> f32 {
     a.iter().zip(b).flat_map(|(x, y)| (0..3).map(move |k| x[k].distance(y[k]))).fold(0.0, f32::max)
 }
 
+/// Adds `ext` to the `extensionsUsed` of a file the test builder wrote (its list is fixed).
+fn declare_extension(path: &Path, ext: &str) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let text = text.replacen(r#""extensionsUsed": ["#, &format!(r#""extensionsUsed": ["{ext}", "#), 1);
+    std::fs::write(path, text).unwrap();
+}
+
 fn data(name: &str) -> std::path::PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/meshopt").join(name)
 }
@@ -131,13 +138,7 @@ fn webp_textures_are_read_in_place_of_their_fallback() {
     };
     g.mesh_node(&[(&quad, m)], "");
     let path = g.write(&dir, "webp");
-    // The builder's extension list lacks EXT_texture_webp: a file that uses it lists it.
-    let text = std::fs::read_to_string(&path).unwrap().replacen(
-        r#""extensionsUsed": ["#,
-        r#""extensionsUsed": ["EXT_texture_webp", "#,
-        1,
-    );
-    std::fs::write(&path, text).unwrap();
+    declare_extension(&path, "EXT_texture_webp");
     let scene = load(&path);
     assert_eq!(scene.textures.len(), 1);
     let t = &scene.textures[0];
@@ -171,12 +172,7 @@ fn gpu_instances_are_drawn_where_the_extension_places_them() {
         ),
     );
     let path = g.write(&dir, "instanced");
-    let text = std::fs::read_to_string(&path).unwrap().replacen(
-        r#""extensionsUsed": ["#,
-        r#""extensionsUsed": ["EXT_mesh_gpu_instancing", "#,
-        1,
-    );
-    std::fs::write(&path, text).unwrap();
+    declare_extension(&path, "EXT_mesh_gpu_instancing");
     let scene = load(&path);
     assert_eq!(scene.mesh.triangles.len(), 3);
     // glTF: world = node · T · R · S of the instance, computed here by hand.
