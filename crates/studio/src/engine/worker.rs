@@ -17,6 +17,8 @@ use mcc::{Collage, RayFile};
 use std::collections::BTreeMap;
 use std::hash::{Hash, Hasher};
 use std::sync::Arc;
+use tracer::denoise::{Aux, Denoiser, Mode};
+use tracer::film::FilmImages;
 use tracer::image::RgbImage;
 use tracer::integrator::PathTracer;
 use tracer::job::{CameraRender, Quality};
@@ -42,12 +44,21 @@ pub struct Worker {
     tracer: Option<Arc<PathTracer>>,
     cameras: BTreeMap<u32, CameraCache>,
     remap: Option<(u64, Arc<RemapOutput>)>,
+    /// Whether the cached thumbnails were shown denoised (they are sent again when it changes).
+    thumbs_denoised: bool,
 }
 
 impl Worker {
     /// A worker with empty caches.
     pub fn new(shared: Arc<Shared>) -> Self {
-        Self { shared, frame: None, tracer: None, cameras: BTreeMap::new(), remap: None }
+        Self {
+            shared,
+            frame: None,
+            tracer: None,
+            cameras: BTreeMap::new(),
+            remap: None,
+            thumbs_denoised: false,
+        }
     }
 
     /// Serves snapshots until the engine stops.
@@ -68,8 +79,28 @@ impl Worker {
         }
     }
 
-    fn quality(spp: u32) -> Quality {
-        Quality::DEFAULT.with_spp(spp)
+    /// The preview's quality; with `denoise`, the film records the albedo and normal the
+    /// denoiser needs.
+    fn quality(spp: u32, denoise: bool) -> Quality {
+        Quality { denoise, ..Quality::DEFAULT.with_spp(spp) }
+    }
+
+    /// Whether this snapshot's pictures are shown denoised: the page's toggle, when the
+    /// denoiser is installed (without it the studio shows raw samples, as the toggle says).
+    fn denoising(snap: &Snapshot) -> bool {
+        snap.denoise && Denoiser::shared().is_ok()
+    }
+
+    /// The picture shown for a render: denoised in preview mode when `denoise`, else raw.
+    fn shown(images: FilmImages, denoise: bool) -> Result<RgbImage> {
+        if !denoise {
+            return Ok(images.image);
+        }
+        let aux = Aux { albedo: &images.albedo, normal: &images.normal };
+        let denoised = Denoiser::shared()
+            .and_then(|d| d.denoise(&images.image, Some(aux), Mode::Preview))
+            .map_err(tracer::TracerError::from)?;
+        Ok(denoised)
     }
 
     fn send(
@@ -102,13 +133,22 @@ impl Worker {
         }
         let tracer = Arc::clone(self.tracer.as_ref().expect("set above"));
         self.update_rays(snap)?;
-        // Moved cameras' thumbnails first: the page shows a camera move there.
+        let denoise = Self::denoising(snap);
+        if denoise != self.thumbs_denoised {
+            // The toggle changed: every thumbnail is shown again the other way.
+            self.cameras.values_mut().for_each(|c| c.thumb = None);
+            self.thumbs_denoised = denoise;
+        }
+        // Moved cameras' thumbnails first: the page shows a camera move there. The cache keeps
+        // the raw samples (painted pixels fall back on them); the page sees them denoised.
         let coarse = self.coarse(snap);
         for cam in &snap.cameras {
             if self.cameras[&cam.index].thumb.is_none() {
-                let image = self.render_view(&tracer, snap, cam, coarse, 1, &stale)?;
-                self.send(snap, ImageKind::Thumb, Some(cam.index), 1, &srgb(&image))?;
-                self.cameras.get_mut(&cam.index).expect("updated").thumb = Some(image);
+                let images = self.render_view(&tracer, snap, cam, coarse, 1, denoise, &stale)?;
+                let raw = images.image.clone();
+                let shown = Self::shown(images, denoise)?;
+                self.send(snap, ImageKind::Thumb, Some(cam.index), 1, &srgb(&shown))?;
+                self.cameras.get_mut(&cam.index).expect("updated").thumb = Some(raw);
             }
         }
         let res = UVec2::new(snap.res[0], snap.res[1]);
@@ -117,7 +157,8 @@ impl Worker {
         let remapped = if painted { Some(self.remap(snap, debug)?) } else { None };
         let rays = remapped.as_ref().map(|out| Arc::new(out.rays.clone()));
         if let Some(rays) = &rays {
-            let image = self.rerender(&tracer, snap, rays, coarse, 1, &stale)?;
+            let image =
+                Self::shown(self.rerender(&tracer, snap, rays, coarse, 1, denoise, &stale)?, denoise)?;
             let views = &self.cameras;
             let full = composite(res.x, res.y, &image, &snap.labels, |k| {
                 views.get(&(k as u32)).and_then(|c| c.view.as_ref().or(c.thumb.as_ref()))
@@ -129,7 +170,7 @@ impl Worker {
         let view_spp = self.shared.settings.view_spp;
         for cam in &snap.cameras {
             if self.cameras[&cam.index].view.is_none() {
-                let image = self.render_view(&tracer, snap, cam, res, view_spp, &stale)?;
+                let image = self.render_view(&tracer, snap, cam, res, view_spp, false, &stale)?.image;
                 self.cameras.get_mut(&cam.index).expect("updated").view = Some(image);
                 if snap.view == (ViewMode::Source, Some(cam.index)) {
                     self.view_picture(snap, remapped.as_deref())?;
@@ -139,7 +180,9 @@ impl Worker {
         if let Some(rays) = &rays {
             let mut spp = 1;
             loop {
-                let mut image = self.rerender(&tracer, snap, rays, res, spp, &stale)?;
+                let images = self.rerender(&tracer, snap, rays, res, spp, denoise, &stale)?;
+                let raw = denoise.then(|| images.image.clone());
+                let mut image = Self::shown(images, denoise)?;
                 if spp < view_spp {
                     // Painted pixels keep their camera's view samples until the rerender has
                     // as many there (it traces those very rays); from then on it is exactly
@@ -148,6 +191,9 @@ impl Worker {
                     image = composite(res.x, res.y, &image, &snap.labels, |k| {
                         views.get(&(k as u32)).and_then(|c| c.view.as_ref())
                     });
+                } else if let Some(raw) = &raw {
+                    // Denoised, the painted pixels still show the camera's own samples.
+                    image = composite(res.x, res.y, &image, &snap.labels, |_| Some(raw));
                 }
                 self.send(snap, ImageKind::Preview, None, spp, &srgb(&image))?;
                 if spp >= self.shared.settings.preview_spp {
@@ -184,8 +230,9 @@ impl Worker {
         cam: &StudioCamera,
         res: UVec2,
         spp: u32,
+        denoise: bool,
         stale: &Stale<'_>,
-    ) -> Result<RgbImage> {
+    ) -> Result<FilmImages> {
         stale.check()?;
         let camera = cam.desc()?.build(res)?;
         let job = CameraRender {
@@ -195,9 +242,9 @@ impl Worker {
             camera_id: cam.index,
             frame: snap.frame,
             shutter: (0.0, 0.0),
-            quality: Self::quality(spp),
+            quality: Self::quality(spp, denoise),
         };
-        Ok(job.run(&mut LensChain::new(), stale)?.images.image)
+        Ok(job.run(&mut LensChain::new(), stale)?.images)
     }
 
     fn rerender(
@@ -207,15 +254,16 @@ impl Worker {
         rays: &Arc<RayFile>,
         res: UVec2,
         spp: u32,
+        denoise: bool,
         stale: &Stale<'_>,
-    ) -> Result<RgbImage> {
+    ) -> Result<FilmImages> {
         stale.check()?;
         let job = Rerender {
             resolution: Some(res),
-            quality: Self::quality(spp),
+            quality: Self::quality(spp, denoise),
             ..Rerender::new(Arc::clone(rays), snap.frame)
         };
-        Ok(job.run(tracer, stale)?.images.image)
+        Ok(job.run(tracer, stale)?.images)
     }
 
     /// The remap of the snapshot's maps, through `mcc`'s own remapper; reused while the maps,
