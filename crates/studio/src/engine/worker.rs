@@ -144,7 +144,8 @@ impl Worker {
         let coarse = self.coarse(snap);
         for cam in &snap.cameras {
             if self.cameras[&cam.index].thumb.is_none() {
-                let images = self.render_view(&tracer, snap, cam, coarse, 1, denoise, &stale)?;
+                let images =
+                    self.render_view(&tracer, snap, cam, coarse, Self::quality(1, denoise), &stale)?;
                 let raw = images.image.clone();
                 let shown = Self::shown(images, denoise)?;
                 self.send(snap, ImageKind::Thumb, Some(cam.index), 1, &srgb(&shown))?;
@@ -157,8 +158,10 @@ impl Worker {
         let remapped = if painted { Some(self.remap(snap, debug)?) } else { None };
         let rays = remapped.as_ref().map(|out| Arc::new(out.rays.clone()));
         if let Some(rays) = &rays {
-            let image =
-                Self::shown(self.rerender(&tracer, snap, rays, coarse, 1, denoise, &stale)?, denoise)?;
+            let image = Self::shown(
+                self.rerender(&tracer, snap, rays, coarse, Self::quality(1, denoise), &stale)?,
+                denoise,
+            )?;
             let views = &self.cameras;
             let full = composite(res.x, res.y, &image, &snap.labels, |k| {
                 views.get(&(k as u32)).and_then(|c| c.view.as_ref().or(c.thumb.as_ref()))
@@ -170,7 +173,8 @@ impl Worker {
         let view_spp = self.shared.settings.view_spp;
         for cam in &snap.cameras {
             if self.cameras[&cam.index].view.is_none() {
-                let image = self.render_view(&tracer, snap, cam, res, view_spp, false, &stale)?.image;
+                let image =
+                    self.render_view(&tracer, snap, cam, res, Self::quality(view_spp, false), &stale)?.image;
                 self.cameras.get_mut(&cam.index).expect("updated").view = Some(image);
                 if snap.view == (ViewMode::Source, Some(cam.index)) {
                     self.view_picture(snap, remapped.as_deref())?;
@@ -180,7 +184,7 @@ impl Worker {
         if let Some(rays) = &rays {
             let mut spp = 1;
             loop {
-                let images = self.rerender(&tracer, snap, rays, res, spp, denoise, &stale)?;
+                let images = self.rerender(&tracer, snap, rays, res, Self::quality(spp, denoise), &stale)?;
                 let raw = denoise.then(|| images.image.clone());
                 let mut image = Self::shown(images, denoise)?;
                 if spp < view_spp {
@@ -229,8 +233,7 @@ impl Worker {
         snap: &Snapshot,
         cam: &StudioCamera,
         res: UVec2,
-        spp: u32,
-        denoise: bool,
+        quality: Quality,
         stale: &Stale<'_>,
     ) -> Result<FilmImages> {
         stale.check()?;
@@ -242,7 +245,7 @@ impl Worker {
             camera_id: cam.index,
             frame: snap.frame,
             shutter: (0.0, 0.0),
-            quality: Self::quality(spp, denoise),
+            quality,
         };
         Ok(job.run(&mut LensChain::new(), stale)?.images)
     }
@@ -253,16 +256,11 @@ impl Worker {
         snap: &Snapshot,
         rays: &Arc<RayFile>,
         res: UVec2,
-        spp: u32,
-        denoise: bool,
+        quality: Quality,
         stale: &Stale<'_>,
     ) -> Result<FilmImages> {
         stale.check()?;
-        let job = Rerender {
-            resolution: Some(res),
-            quality: Self::quality(spp, denoise),
-            ..Rerender::new(Arc::clone(rays), snap.frame)
-        };
+        let job = Rerender { resolution: Some(res), quality, ..Rerender::new(Arc::clone(rays), snap.frame) };
         Ok(job.run(tracer, stale)?.images)
     }
 
