@@ -64,22 +64,9 @@ pub(super) fn run(
             if clean {
                 // OIDN's advice for noisy auxiliaries: each filtered in place by the same filter
                 // type alone, then the beauty filtered with `cleanAux`.
-                let albedo_ptr = albedo.as_mut_ptr();
-                execute(
-                    denoiser,
-                    &[(c"albedo", albedo_ptr), (c"output", albedo_ptr)],
-                    (w, h),
-                    false,
-                    quality,
-                )?;
-                let normal_ptr = normal.as_mut_ptr();
-                execute(
-                    denoiser,
-                    &[(c"normal", normal_ptr), (c"output", normal_ptr)],
-                    (w, h),
-                    false,
-                    quality,
-                )?;
+                for (name, aux) in [(c"albedo", albedo.as_mut_ptr()), (c"normal", normal.as_mut_ptr())] {
+                    execute(denoiser, &[(name, aux), (c"output", aux)], (w, h), false, quality)?;
+                }
             }
             let images = [
                 (c"color", input.as_mut_ptr()),
@@ -98,7 +85,6 @@ pub(super) fn run(
         }
         *out = out.max(Vec3::ZERO);
     }
-    input.clear();
     Ok(RgbImage { width: w, height: h, pixels: output })
 }
 
