@@ -94,8 +94,38 @@ fn sanitized(pixels: &[Vec3], lo: f32, hi: f32) -> Vec<Vec3> {
     pixels.iter().map(|p| Vec3::new(fix(p.x), fix(p.y), fix(p.z))).collect()
 }
 
-/// Runs one `RT` filter over the shared `images` (name, `w × h` float3 pixels) with `hdr` on for
-/// a beauty, `cleanAux` as given, at `quality`.
+/// What makes two filter runs able to share one OIDN filter: which images it takes, their size,
+/// `cleanAux` and the quality. A filter's creation and first commit build its network and load
+/// its weights (OIDN: "an expensive operation"); re-pointing its images and committing again is
+/// cheap, so the device keeps its filters ([`FilterCache`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) struct FilterKey {
+    names: u64,
+    size: (u32, u32),
+    clean_aux: bool,
+    quality: c_int,
+}
+
+/// A device's filters by [`FilterKey`], the most recently used last; at most [`FilterCache::MAX`].
+#[derive(Default)]
+pub(super) struct FilterCache(Vec<(FilterKey, usize)>);
+
+impl FilterCache {
+    /// Filters kept: a final's three and a preview's, at two sizes.
+    const MAX: usize = 8;
+
+    /// Releases every filter (the device is going).
+    pub(super) fn release_all(&mut self, d: &Denoiser) {
+        for (_, filter) in self.0.drain(..) {
+            // SAFETY: a filter this cache created and owns, released once.
+            unsafe { (d.api.release_filter)(filter as *mut c_void) };
+        }
+    }
+}
+
+/// Runs an `RT` filter over the shared `images` (name, `w × h` float3 pixels) with `hdr` on for
+/// a beauty, `cleanAux` as given, at `quality`: the device's cached filter for these settings,
+/// or a new one.
 fn execute(
     d: &Denoiser,
     images: &[(&CStr, *mut Vec3)],
@@ -104,25 +134,49 @@ fn execute(
     quality: c_int,
 ) -> Result<(), DenoiseError> {
     let api = &d.api;
-    // SAFETY: a live device; the type is a NUL-terminated C string.
-    let filter = unsafe { (api.new_filter)(d.device, c"RT".as_ptr()) };
-    if filter.is_null() {
-        d.check()?;
-        return Err(DenoiseError::Oidn { origin: api.origin.clone(), message: "no RT filter".into() });
-    }
-    struct Release<'a>(&'a Denoiser, *mut c_void);
-    impl Drop for Release<'_> {
-        fn drop(&mut self) {
-            // SAFETY: the filter created above, released once.
-            unsafe { (self.0.api.release_filter)(self.1) };
+    let names = images
+        .iter()
+        .fold(0u64, |acc, (name, _)| acc.wrapping_mul(31).wrapping_add(name.to_bytes()[0] as u64));
+    let key = FilterKey { names, size: (w, h), clean_aux, quality };
+    // One filter run at a time per device (OIDN serialises them anyway); the lock also guards
+    // the cache.
+    let mut cache = d.filters.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    let cached = cache.0.iter().position(|(k, _)| *k == key).map(|i| cache.0.remove(i).1);
+    let filter = match cached {
+        Some(f) => f as *mut c_void,
+        None => {
+            // SAFETY: a live device; the type is a NUL-terminated C string.
+            let filter = unsafe { (api.new_filter)(d.device, c"RT".as_ptr()) };
+            if filter.is_null() {
+                d.check()?;
+                return Err(DenoiseError::Oidn {
+                    origin: api.origin.clone(),
+                    message: "no RT filter".into(),
+                });
+            }
+            let is_beauty = images.iter().any(|(name, _)| *name == c"color");
+            // SAFETY: a live filter; the names are NUL-terminated C strings.
+            unsafe {
+                if is_beauty {
+                    (api.set_filter_bool)(filter, c"hdr".as_ptr(), true);
+                    (api.set_filter_bool)(filter, c"cleanAux".as_ptr(), clean_aux);
+                }
+                (api.set_filter_int)(filter, c"quality".as_ptr(), quality);
+            }
+            filter
         }
+    };
+    cache.0.push((key, filter as usize));
+    if cache.0.len() > FilterCache::MAX {
+        let (_, oldest) = cache.0.remove(0);
+        // SAFETY: a filter the cache owned, now dropped from it, released once.
+        unsafe { (api.release_filter)(oldest as *mut c_void) };
     }
-    let _release = Release(d, filter);
     let stride = std::mem::size_of::<Vec3>();
-    let is_beauty = images.iter().any(|(name, _)| *name == c"color");
     // SAFETY: every pointer is the start of a live `w × h` Vec3 buffer (12 bytes a pixel, packed,
-    // the layout of OIDN_FORMAT_FLOAT3) that outlives the filter's execution below; the names
-    // are NUL-terminated C strings.
+    // the layout of OIDN_FORMAT_FLOAT3) that outlives the filter's execution below (the filter
+    // keeps the pointers, but only reads them when executed, and every run sets them afresh);
+    // the names are NUL-terminated C strings.
     unsafe {
         for (name, pixels) in images {
             (api.set_shared_filter_image)(
@@ -137,11 +191,6 @@ fn execute(
                 stride * w as usize,
             );
         }
-        if is_beauty {
-            (api.set_filter_bool)(filter, c"hdr".as_ptr(), true);
-            (api.set_filter_bool)(filter, c"cleanAux".as_ptr(), clean_aux);
-        }
-        (api.set_filter_int)(filter, c"quality".as_ptr(), quality);
         (api.commit_filter)(filter);
     }
     d.check()?;

@@ -14,13 +14,14 @@ mod filter;
 mod loader;
 
 pub use filter::Aux;
+use filter::FilterCache;
 pub use loader::{ENV_VAR, INSTALL_COMMAND, Location, find_library};
 
 use crate::image::RgbImage;
 use loader::Api;
 use std::ffi::{CStr, c_char, c_void};
 use std::path::PathBuf;
-use std::sync::OnceLock;
+use std::sync::{Mutex, OnceLock};
 
 /// What can go wrong finding, opening or running the denoiser.
 #[derive(Clone, Debug, thiserror::Error)]
@@ -73,6 +74,8 @@ pub struct Denoiser {
     api: Api,
     device: *mut c_void,
     version: String,
+    /// Filters kept for reuse (creating one builds its network), behind the lock every run takes.
+    filters: Mutex<FilterCache>,
 }
 
 // SAFETY: OIDN documents every API call as thread-safe; the device handle is only passed to it.
@@ -87,7 +90,7 @@ impl Denoiser {
         const DEVICE_TYPE_CPU: i32 = 1;
         // SAFETY: OIDN's C API, called as `oidn.h` declares; a null device is checked below.
         let device = unsafe { (api.new_device)(DEVICE_TYPE_CPU) };
-        let mut denoiser = Self { api, device, version: String::new() };
+        let mut denoiser = Self { api, device, version: String::new(), filters: Mutex::default() };
         if device.is_null() {
             return Err(denoiser.error(std::ptr::null_mut()).unwrap_err());
         }
@@ -165,6 +168,9 @@ impl Denoiser {
 
 impl Drop for Denoiser {
     fn drop(&mut self) {
+        let mut filters =
+            std::mem::take(self.filters.get_mut().unwrap_or_else(std::sync::PoisonError::into_inner));
+        filters.release_all(self);
         if !self.device.is_null() {
             // SAFETY: the device this value owns, released once.
             unsafe { (self.api.release_device)(self.device) };
