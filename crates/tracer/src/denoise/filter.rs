@@ -18,8 +18,8 @@ pub struct Aux<'a> {
 
 /// `OIDN_FORMAT_FLOAT3`: three packed f32 per pixel, glam's `Vec3` layout.
 const FORMAT_FLOAT3: c_int = 3;
-/// `OIDN_QUALITY_BALANCED` and `OIDN_QUALITY_HIGH`.
-const QUALITY_BALANCED: c_int = 5;
+/// `OIDN_QUALITY_FAST` and `OIDN_QUALITY_HIGH`.
+const QUALITY_FAST: c_int = 4;
 const QUALITY_HIGH: c_int = 6;
 
 /// Denoises `color` (see [`Denoiser::denoise`]).
@@ -47,7 +47,7 @@ pub(super) fn run(
         return Ok(color.clone());
     }
     let mut input = sanitized(&color.pixels, 0.0, f32::MAX);
-    let quality = if mode == Mode::Final { QUALITY_HIGH } else { QUALITY_BALANCED };
+    let quality = if mode == Mode::Final { QUALITY_HIGH } else { QUALITY_FAST };
     let mut output = vec![Vec3::ZERO; input.len()];
     match aux {
         None => execute(
