@@ -13,6 +13,7 @@ mod bad_inputs;
 mod common;
 mod cornell_reference;
 mod cycles_parity;
+mod denoise;
 mod determinism;
 mod farm;
 mod first_use;

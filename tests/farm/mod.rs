@@ -26,7 +26,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// Environment variable carrying the wrapper's arguments (separated by U+001F).
-const ENV_ARGS: &str = "MCCTRACE_FARM_ARGS";
+pub(crate) const ENV_ARGS: &str = "MCCTRACE_FARM_ARGS";
 
 /// Runs `mcctrace` with the arguments the wrapper passed and exits with its status: the
 /// scheduler's tasks run this (ignored: not a test of its own).

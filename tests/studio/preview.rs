@@ -37,6 +37,9 @@ async fn the_preview_series_is_the_rerender_and_converges_as_one_over_spp() {
     let config = Config { res: Some(RES), engine: SERIES, ..Config::new(Some(scene()), project.clone()) };
     let running = ::studio::serve(config).expect("the studio starts");
     let mut client = Client::connect(&running).await;
+    // Raw samples: the preview is compared with `mcctrace rerender` bit for bit (denoising, on
+    // by default when the library is installed, has its own test: tests/studio_page/).
+    client.request(json!({"type": "denoise", "on": false})).await;
     let seq = two_strokes(&mut client).await["seq"].clone();
     // The previews of this state: the coarse one (1 spp, a quarter of the size scaled up) comes
     // first, then the idle series; the last picture of each sample count is the idle one.

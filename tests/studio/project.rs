@@ -13,6 +13,9 @@ async fn saved_projects_feed_the_batch_commands_bit_for_bit() {
     let project = dir.join("proj");
     let running = start(&project);
     let mut client = Client::connect(&running).await;
+    // Raw samples: the preview is compared with `mcctrace rerender` bit for bit (denoising, on
+    // by default when the library is installed, has its own test: tests/studio_page/).
+    client.request(json!({"type": "denoise", "on": false})).await;
     let state = two_strokes(&mut client).await;
     let seq = state["seq"].as_u64().unwrap();
     let painted = {

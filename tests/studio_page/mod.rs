@@ -13,7 +13,7 @@ mod layout;
 mod record;
 mod server;
 
-use crate::common::external::external;
+use crate::common::external::{external, under_ci};
 use crate::common::{Scratch, repo_root};
 use browser::Browser;
 use layout::{Layout, distance_to_segment};
@@ -205,6 +205,99 @@ async fn move_camera(b: &Browser, lay: &Layout, camera: u32) {
     .await;
 }
 
+/// Turns the page's denoise toggle off (on by default when the denoiser is installed); returns
+/// whether the denoiser is there. Its absence skips the denoising checks with a note, and fails
+/// under CI (`.ci/run` installs it).
+async fn raw_preview(b: &Browser, patience: Duration) -> bool {
+    let denoiser = b.js("return window.studio.state.denoiser;", vec![]).await;
+    if denoiser.is_null() {
+        assert!(
+            !under_ci(),
+            "the studio found no denoiser, but MCCTRACE_CI=1 requires it (.ci/run installs it)"
+        );
+        eprintln!("note: no denoiser installed: the denoised-preview checks are skipped");
+        return false;
+    }
+    let on = "return document.getElementById('denoise').checked && window.studio.state.denoise;";
+    assert_eq!(b.js(on, vec![]).await, serde_json::Value::Bool(true), "the preview is denoised by default");
+    b.click("#denoise").await;
+    b.wait_for("the raw preview", "return window.studio.state.denoise === false;", patience).await;
+    println!("denoiser {denoiser}: the preview shown raw for the exact checks");
+    true
+}
+
+/// Sum of squared channel differences between two canvas snapshots over `pixels`, per pixel.
+fn refinement_change(lay: &Layout, a: &[u8], b: &[u8], pixels: &[(u32, u32)]) -> f64 {
+    let total: u64 = pixels
+        .iter()
+        .map(|&p| {
+            let (x, y) = (lay.rgb_at(a, p), lay.rgb_at(b, p));
+            (0..3).map(|k| (x[k] as i64 - y[k] as i64).pow(2) as u64).sum::<u64>()
+        })
+        .sum();
+    total as f64 / pixels.len() as f64
+}
+
+/// The toggle on: between the strokes the denoised preview changes far less from one refinement
+/// to the next (4 → 16 spp) than the raw one did (`raw`, the same refinements of the same
+/// strokes), and differs from the raw picture; the toggle off again: the canvas is the raw
+/// preview, `mcctrace rerender --spp 16` of the saved collage (`raw16`), bit for bit.
+async fn denoised_preview(
+    b: &Browser,
+    lay: &Layout,
+    between: &[(u32, u32)],
+    raw: &(Vec<u8>, Vec<u8>),
+    raw16: &image::RgbImage,
+    patience: Duration,
+) {
+    let hook = "const S = window.studio; S.dsnaps = {};
+         S.afterDraw = () => {
+           const d = S.drawn;
+           if (d.mode !== 'final' || d.pending) return;
+           S.dsnaps[d.seq + ':' + d.spp] = document.getElementById('canvas').getContext('2d').getImageData(0, 0, S.W, S.H).data;
+         };";
+    b.js(hook, vec![]).await;
+    b.click("#denoise").await;
+    let ready = "const S = window.studio, q = S.state.seq;
+         return S.state.denoise === true && !!S.dsnaps[q + ':4'] && !!S.dsnaps[q + ':16'] && q;";
+    let seq = b.wait_for("the denoised preview refined to 16 spp", ready, lay.patience).await;
+    let (js4, js16) = ["4", "16"].map(|spp| format!("return window.studio.dsnaps['{seq}:{spp}'];")).into();
+    let (d4, d16) =
+        (b.bytes(&js4).await.expect("denoised 4 spp"), b.bytes(&js16).await.expect("denoised 16 spp"));
+    save_screenshot(b, "2b-denoised-preview.png").await;
+    let (den, raw_change) =
+        (refinement_change(lay, &d4, &d16, between), refinement_change(lay, &raw.0, &raw.1, between));
+    println!(
+        "preview 4 → 16 spp between the strokes: mean squared change raw {raw_change:.1}, denoised {den:.1}"
+    );
+    assert!(
+        den * 3.0 < raw_change,
+        "the denoised preview should refine with far less change: {den:.1} vs raw {raw_change:.1}"
+    );
+    let differ = between.iter().filter(|&&p| lay.rgb_at(&d16, p) != lay.rgb_at(&raw.1, p)).count();
+    assert!(
+        differ * 2 > between.len(),
+        "the denoised preview is not the raw one: {differ} of {} differ",
+        between.len()
+    );
+
+    b.click("#denoise").await;
+    let back = "const S = window.studio, q = S.state.seq;
+         return S.state.denoise === false && !!S.dsnaps[q + ':16'] && q;";
+    let seq = b.wait_for("the raw preview again", back, patience).await;
+    let canvas =
+        px_image(lay, &b.bytes(&format!("return window.studio.dsnaps['{seq}:16'];")).await.expect("raw"));
+    assert!(
+        &canvas == raw16,
+        "with the toggle off the canvas is the raw preview, mcctrace rerender --spp 16"
+    );
+}
+
+/// A canvas snapshot as an image.
+fn px_image(lay: &Layout, px: &[u8]) -> image::RgbImage {
+    image::RgbImage::from_fn(lay.res.0, lay.res.1, |x, y| image::Rgb(lay.rgb_at(px, (x, y))))
+}
+
 fn read_rgb(path: &Path) -> image::RgbImage {
     image::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display())).to_rgb8()
 }
@@ -228,6 +321,9 @@ fn paint_two_cameras_preview_save_and_render_final() {
         b.wait_for("both cameras' thumbnails", thumbs, patience).await;
         first_page_shows_the_views_and_says_what_to_do(&b, &lay, patience).await;
         reconnect(&b, patience).await;
+        // The exact checks below compare raw samples with `mcctrace rerender`: the preview is
+        // shown raw until `denoised_preview` turns the denoiser on.
+        let denoiser = raw_preview(&b, patience).await;
         b.type_into("#size", &format!("{}", lay.brush)).await;
 
         // The canvas as first drawn from a preview of both strokes (each stroke is one `paint`
@@ -338,6 +434,13 @@ fn paint_two_cameras_preview_save_and_render_final() {
                 "stroke {s}: canvas vs camera {camera}'s view {e_own:.2}, vs the other camera's {e_other:.2} (mean |Δ| of 255)"
             );
             assert!(2.0 * e_own < e_other, "stroke {s}: the canvas should show camera {camera}'s view");
+        }
+
+        if denoiser {
+            b.wait_for("the raw preview at 16 spp", "return !!window.studio.snaps.spp16", patience).await;
+            let raw = (snap("spp4").await.1, snap("spp16").await.1);
+            let raw16 = studio.rerender(&dir, &scratch, (res.0, res.1, 16), "preview16");
+            denoised_preview(&b, &lay, &between, &raw, &raw16, patience).await;
         }
 
         // The other views, for the screenshots.

@@ -93,7 +93,7 @@ def import_scene(gltf_path, camera):
     return scene
 
 
-def configure(scene, size, spp, depth, seed, threads):
+def configure(scene, size, spp, depth, seed, threads, denoise=False):
     scene.render.engine = "CYCLES"
     c = scene.cycles
     bounces = depth - 1
@@ -123,6 +123,16 @@ def configure(scene, size, spp, depth, seed, threads):
         "pixel_filter_type": "BOX",
         "filter_width": 1.0,
     }
+    if denoise:
+        # Cycles' own OIDN denoiser on the final render, guided by albedo and normal with its
+        # accurate prefilter (the comparison of docs/performance.md, "Denoising").
+        settings.update({
+            "use_denoising": True,
+            "denoiser": "OPENIMAGEDENOISE",
+            "denoising_input_passes": "RGB_ALBEDO_NORMAL",
+            "denoising_prefilter": "ACCURATE",
+            "denoising_use_gpu": False,
+        })
     for name, value in settings.items():
         setattr(c, name, value)
     scene.render.threads_mode = "FIXED"
@@ -186,13 +196,14 @@ def main():
     p.add_argument("--threads", type=int, default=2)
     p.add_argument("--reference")
     p.add_argument("--noise-spp", type=int)
+    p.add_argument("--denoise", action="store_true", help="Cycles' OIDN denoiser on (albedo+normal)")
     a = p.parse_args(argv)
     size = tuple(int(v) for v in a.size.split(","))
     scene = import_scene(a.gltf, a.camera)
     changed = one_sided_emission(a.gltf)
     if changed:
         print(f"one-sided emission (doubleSided: false) restored on: {', '.join(changed)}")
-    configure(scene, size, a.spp, a.depth, a.seed, a.threads)
+    configure(scene, size, a.spp, a.depth, a.seed, a.threads, a.denoise)
     seconds = render(scene, a.out)
     image = load_rgb(a.out)
     print(f"{a.out}: {a.spp} spp in {seconds:.2f} s, channel means {image.mean(axis=(0, 1))}")

@@ -79,7 +79,7 @@ struct JobArgs {
 }
 
 /// The shot's own flags, refused beside --bands.
-const SHOT_ONLY: [&str; 15] = [
+const SHOT_ONLY: [&str; 16] = [
     "scene",
     "keys",
     "cameras",
@@ -95,6 +95,7 @@ const SHOT_ONLY: [&str; 15] = [
     "shutter",
     "mode",
     "seamless",
+    "denoise",
 ];
 
 /// The shot: what `render` (the views), `keys` and `animate` (the frames) would be given.
@@ -146,6 +147,10 @@ struct ShotArgs {
     /// The seamless blend, as `keys --seamless`.
     #[arg(long)]
     seamless: bool,
+    /// Denoise the output frames, as `animate --denoise` (the source views stay raw: the
+    /// collages are painted from them).
+    #[arg(long)]
+    denoise: bool,
 }
 
 /// `--mem`: a size in MiB, or with a unit K, M, G or T (Slurm's own suffixes).
@@ -299,6 +304,9 @@ impl JobArgs {
         if let Some(sh) = a.shutter {
             output_args.extend(["--shutter".into(), format!("{}..{}", sh.open, sh.close)]);
         }
+        if a.denoise {
+            output_args.push("--denoise".into());
+        }
         let mode = a.mode.to_possible_value().map(|v| v.get_name().to_owned()).unwrap_or_default();
         let mut keys_args = vec!["--mode".into(), mode];
         if a.seamless {
@@ -405,6 +413,38 @@ mod tests {
         assert!(err.to_string().contains("--spp"), "{err}");
         assert!(parse("mcctrace farm slurm --bands 4 --dir d").is_err(), "--bands needs a command");
         assert!(parse("mcctrace farm slurm --dir d").is_err(), "a shot needs its scene");
+    }
+
+    /// `--denoise` on a shot reaches the output frames' `animate` commands, not the source
+    /// views' (the collages are painted from raw views); refused beside --bands, where the
+    /// still's own command carries it to its bands.
+    #[test]
+    fn denoise_reaches_the_frames_only() {
+        let dir = std::env::temp_dir().join(format!("mcctrace-farm-denoise-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let scene = dir.join("s.gltf");
+        let collage = dir.join("c.png");
+        std::fs::write(&scene, b"{}").unwrap();
+        std::fs::write(&collage, b"").unwrap();
+        let words = format!(
+            "mcctrace farm openjd {} --key 0={} --cameras 0=a --frames 0..=3 --dir {} --denoise",
+            scene.display(),
+            collage.display(),
+            dir.display()
+        );
+        let cli = crate::Cli::try_parse_from(words.split(' ')).unwrap();
+        let crate::Command::Farm(FarmArgs { scheduler: Scheduler::Openjd(job) }) = cli.command else {
+            panic!()
+        };
+        let shot = job.shot().unwrap();
+        assert!(shot.output.args.contains(&"--denoise".to_owned()), "{:?}", shot.output.args);
+        assert!(!shot.views.args.contains(&"--denoise".to_owned()), "{:?}", shot.views.args);
+        let err = crate::Cli::try_parse_from(
+            "mcctrace farm slurm --bands 4 --denoise --dir d -- render s.gltf".split(' '),
+        )
+        .unwrap_err();
+        assert!(err.to_string().contains("--denoise"), "{err}");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

@@ -281,6 +281,12 @@
     renderCameraList();
     fillCameraForm();
     $('seamless').checked = !!st.seamless;
+    // Without the denoiser installed the toggle is off and disabled; its tooltip says why.
+    $('denoise').checked = !!st.denoise && !!st.denoiser;
+    $('denoise').disabled = !st.denoiser;
+    $('denoise-label').title = st.denoiser
+      ? 'Show the preview and thumbnails denoised (Intel Open Image Denoise ' + st.denoiser + '); off: the raw samples. Painted pixels always show the camera\'s own view.'
+      : 'Denoising needs Intel Open Image Denoise (README, "Denoising"): the preview shows raw samples.';
     if (document.activeElement !== $('frame')) $('frame').value = st.frame;
     $('frames').replaceChildren(...(st.frames || []).map((f) => new Option(String(f), String(f))));
     $('undo').disabled = !st.can_undo;
@@ -589,6 +595,7 @@
   on($('undo'), 'click', () => send({ type: 'undo' }));
   on($('redo'), 'click', () => send({ type: 'redo' }));
   on($('seamless'), 'change', () => send({ type: 'settings', seamless: $('seamless').checked }));
+  on($('denoise'), 'change', () => send({ type: 'denoise', on: $('denoise').checked }));
   on($('frame'), 'change', () => {
     const f = parseInt($('frame').value, 10);
     if (Number.isFinite(f) && f >= 0) send({ type: 'frame', frame: f });

@@ -89,6 +89,11 @@ pub enum Request {
         /// The seamless blend (`--seamless`).
         seamless: bool,
     },
+    /// Show the preview and thumbnails denoised, or their raw samples.
+    Denoise {
+        /// Denoised.
+        on: bool,
+    },
     /// Switch to (or create) the key at a frame.
     Frame {
         /// The frame.

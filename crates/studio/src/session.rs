@@ -53,6 +53,8 @@ pub struct Snapshot {
     pub seamless: bool,
     /// What the canvas shows.
     pub view: (ViewMode, Option<u32>),
+    /// Show the preview and thumbnails denoised (when the denoiser is installed).
+    pub denoise: bool,
 }
 
 /// The session's state.
@@ -68,6 +70,8 @@ pub struct Session {
     pub seamless: bool,
     /// What the canvas shows.
     pub view: (ViewMode, Option<u32>),
+    /// Show the preview and thumbnails denoised (the page's toggle; on by default).
+    pub denoise: bool,
     /// Grows with every change that makes images stale; images carry it.
     pub seq: u64,
     /// Grows with every edit a save keeps (strokes, undo, cameras, keys, the blend) and not with
@@ -84,6 +88,7 @@ impl Session {
             res,
             seamless: false,
             view: (ViewMode::Final, None),
+            denoise: true,
             seq: 1,
             edits: 0,
         }
@@ -114,6 +119,8 @@ impl Session {
             "frames": self.keys.keys().collect::<Vec<_>>(), "seamless": self.seamless,
             "can_undo": key.maps.can_undo(), "can_redo": key.maps.can_redo(), "seq": self.seq,
             "view": {"mode": self.view.0, "camera": self.view.1},
+            "denoise": self.denoise,
+            "denoiser": tracer::denoise::Denoiser::shared().map(|d| d.version().to_owned()).ok(),
         }))
     }
 
@@ -135,6 +142,7 @@ impl Session {
             res: self.res,
             seamless: self.seamless,
             view: self.view,
+            denoise: self.denoise,
         }
     }
 
@@ -230,6 +238,14 @@ impl Session {
         self.view = (mode, camera);
         self.seq += 1;
         Ok(())
+    }
+
+    /// Shows the preview denoised or raw.
+    pub fn set_denoise(&mut self, on: bool) {
+        if self.denoise != on {
+            self.denoise = on;
+            self.seq += 1;
+        }
     }
 
     /// Sets the remapper's blend.

@@ -65,6 +65,9 @@ pub enum TracerError {
         /// Its error (in the message, not a separate `source()`).
         error: LensError,
     },
+    /// Denoising failed: Intel Open Image Denoise is not installed, or it reported an error.
+    #[error("{0}")]
+    Denoise(#[from] crate::denoise::DenoiseError),
 }
 
 impl TracerError {

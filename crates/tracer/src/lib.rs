@@ -14,6 +14,7 @@ pub mod bvh;
 pub mod camera;
 #[cfg(any(test, feature = "test-support"))]
 pub mod compare;
+pub mod denoise;
 pub mod error;
 pub mod film;
 pub mod image;

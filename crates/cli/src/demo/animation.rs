@@ -119,7 +119,10 @@ pub(crate) fn run(s: &DemoSettings, shot: &Shot) -> anyhow::Result<()> {
         crop: 0,
         preview: PreviewArg::Gif,
         check: false,
-        quality: QualityArgs::with(shot.frame_spp, shot.frame_res, s.threads, true),
+        quality: QualityArgs {
+            denoise: s.denoise,
+            ..QualityArgs::with(shot.frame_spp, shot.frame_res, s.threads, true)
+        },
     };
     let report = animate(&animate_args)?;
     println!(

@@ -29,6 +29,8 @@ pub(crate) struct DemoSettings {
     pub threads: Option<usize>,
     /// No progress bars.
     pub quiet: bool,
+    /// Denoise the final rerender and the animation's frames (not the source views).
+    pub denoise: bool,
 }
 
 impl DemoSettings {

@@ -38,6 +38,10 @@ pub struct DemoArgs {
     /// No progress bars.
     #[arg(long, short)]
     pub(crate) quiet: bool,
+    /// Denoise the final rerender (and `--animation`'s frames) with Intel Open Image Denoise;
+    /// the source views stay raw, as the collage is painted from them.
+    #[arg(long)]
+    pub(crate) denoise: bool,
     /// The keyframe workflow instead: two key collages with different cameras, in-betweened
     /// into a short shot, rendered with `animate`, and a preview GIF.
     #[arg(long)]
@@ -56,6 +60,10 @@ pub struct DemoArgs {
 pub fn run(a: DemoArgs) -> anyhow::Result<()> {
     let (out, spp, res) =
         if a.animation { ("out/demo-animation", 8, (240, 135)) } else { ("out/demo", 32, (480, 270)) };
+    if a.denoise {
+        // Said before the source views render, not after.
+        tracer::denoise::Denoiser::shared().map_err(|e| anyhow::anyhow!("--denoise: {e}"))?;
+    }
     let settings = DemoSettings {
         scene: cafe::find_cafe(a.scene.as_deref())?,
         out: a.out.unwrap_or_else(|| PathBuf::from(out)),
@@ -63,6 +71,7 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
         res: a.res.unwrap_or(Resolution(glam::UVec2::new(res.0, res.1))),
         threads: a.threads,
         quiet: a.quiet,
+        denoise: a.denoise,
     };
     if a.animation {
         let shot = animation::Shot { frames: a.frames, frame_res: a.frame_res, frame_spp: a.frame_spp };

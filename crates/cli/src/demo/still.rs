@@ -7,6 +7,7 @@ use super::masks::{CAFE_MASK, CAFE_REGIONS, resize_labels};
 use crate::collage::default_labels;
 use crate::rerender::render_through;
 use crate::setup::collage::remap;
+use crate::setup::quality::QualityArgs;
 use anyhow::Context;
 use mcc::job::{CollageFiles, RemapJob, Rerender};
 use std::path::PathBuf;
@@ -53,6 +54,7 @@ pub(crate) fn run(s: &DemoSettings) -> anyhow::Result<()> {
 
     // 4. Rerender through the collage's rays.
     let final_exr = out.join("final.exr");
+    let q = QualityArgs { denoise: s.denoise, ..q };
     let job = Rerender {
         resolution: Some(s.res.0),
         quality: q.quality(),

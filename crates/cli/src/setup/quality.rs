@@ -60,6 +60,11 @@ pub struct QualityArgs {
     /// pixel, the rest where the noise relative to the pixel's brightness is highest.
     #[arg(long)]
     pub adaptive: bool,
+    /// Denoise the picture with Intel Open Image Denoise (guided by albedo and normal, rendered
+    /// for it): the PNG shows it, the EXR keeps the raw beauty and adds the layer `denoised`.
+    /// Bands (--tile) are denoised whole by `merge`. Needs the library (README, "Denoising").
+    #[arg(long)]
+    pub denoise: bool,
     /// No progress bar or summary.
     #[arg(long, short)]
     pub quiet: bool,
@@ -92,6 +97,7 @@ impl QualityArgs {
             spot_falloff: None,
             aovs: false,
             adaptive: false,
+            denoise: false,
             quiet,
         }
     }
@@ -118,12 +124,17 @@ impl QualityArgs {
             split: self.split,
             aovs: self.aovs,
             adaptive: self.adaptive,
+            denoise: self.denoise,
         }
     }
 
     /// How the scene is loaded and posed: the environment and falloff overrides, and `fps`
-    /// (--fps, refused unless a positive number).
+    /// (--fps, refused unless a positive number). With --denoise, the denoiser is started here,
+    /// so a missing library is said before anything renders.
     pub fn scene_setup(&self, fps: f32) -> anyhow::Result<SceneSetup> {
+        if self.denoise {
+            tracer::denoise::Denoiser::shared().map_err(|e| anyhow::anyhow!("--denoise: {e}"))?;
+        }
         if !(fps.is_finite() && fps > 0.0) {
             bail!("--fps {fps}: the frame rate must be a positive number of frames per second");
         }

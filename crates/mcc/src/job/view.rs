@@ -162,9 +162,9 @@ impl ViewRender<'_> {
             }
             (None, None) => Some(write_render(self.exr, &rendered, &info)?),
             (None, Some(code)) => {
-                write_exr(self.exr, &rendered, &info)?;
+                let denoised = write_exr(self.exr, &rendered, &info)?;
                 let png = self.exr.with_extension("png");
-                write_tagged_png(&png, &rendered.images.image, code, id)?;
+                write_tagged_png(&png, denoised.as_ref().unwrap_or(&rendered.images.image), code, id)?;
                 Some(png)
             }
         };

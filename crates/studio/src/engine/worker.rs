@@ -17,6 +17,8 @@ use mcc::{Collage, RayFile};
 use std::collections::BTreeMap;
 use std::hash::{Hash, Hasher};
 use std::sync::Arc;
+use tracer::denoise::{Aux, Denoiser, Mode};
+use tracer::film::FilmImages;
 use tracer::image::RgbImage;
 use tracer::integrator::PathTracer;
 use tracer::job::{CameraRender, Quality};
@@ -51,12 +53,21 @@ pub struct Worker {
     tracer: Option<Arc<PathTracer>>,
     cameras: BTreeMap<u32, CameraCache>,
     remap: Option<(u64, Arc<RemapOutput>)>,
+    /// Whether the cached thumbnails were shown denoised (they are sent again when it changes).
+    thumbs_denoised: bool,
 }
 
 impl Worker {
     /// A worker with empty caches.
     pub fn new(shared: Arc<Shared>) -> Self {
-        Self { shared, frame: None, tracer: None, cameras: BTreeMap::new(), remap: None }
+        Self {
+            shared,
+            frame: None,
+            tracer: None,
+            cameras: BTreeMap::new(),
+            remap: None,
+            thumbs_denoised: false,
+        }
     }
 
     /// Serves snapshots until the engine stops.
@@ -77,8 +88,28 @@ impl Worker {
         }
     }
 
-    fn quality(spp: u32) -> Quality {
-        Quality::DEFAULT.with_spp(spp)
+    /// The preview's quality; with `denoise`, the film records the albedo and normal the
+    /// denoiser needs.
+    fn quality(spp: u32, denoise: bool) -> Quality {
+        Quality { denoise, ..Quality::DEFAULT.with_spp(spp) }
+    }
+
+    /// Whether this snapshot's pictures are shown denoised: the page's toggle, when the
+    /// denoiser is installed (without it the studio shows raw samples, as the toggle says).
+    fn denoising(snap: &Snapshot) -> bool {
+        snap.denoise && Denoiser::shared().is_ok()
+    }
+
+    /// The picture shown for a render: denoised in preview mode when `denoise`, else raw.
+    fn shown(images: FilmImages, denoise: bool) -> Result<RgbImage> {
+        if !denoise {
+            return Ok(images.image);
+        }
+        let aux = Aux { albedo: &images.albedo, normal: &images.normal };
+        let denoised = Denoiser::shared()
+            .and_then(|d| d.denoise(&images.image, Some(aux), Mode::Preview))
+            .map_err(tracer::TracerError::from)?;
+        Ok(denoised)
     }
 
     fn send(
@@ -111,7 +142,14 @@ impl Worker {
         }
         let tracer = Arc::clone(self.tracer.as_ref().expect("set above"));
         self.update_rays(snap)?;
-        // Moved cameras' thumbnails first: the page shows a camera move there.
+        let denoise = Self::denoising(snap);
+        if denoise != self.thumbs_denoised {
+            // The toggle changed: every thumbnail is shown again the other way.
+            self.cameras.values_mut().for_each(|c| c.thumb = None);
+            self.thumbs_denoised = denoise;
+        }
+        // Moved cameras' thumbnails first: the page shows a camera move there. The cache keeps
+        // the raw samples (painted pixels fall back on them); the page sees them denoised.
         let coarse = self.coarse(snap);
         let d = self.shared.settings.coarse_divisor.clamp(1, FIRST_THUMB_DIVISOR);
         let first_size = UVec2::new((snap.res[0] / d).max(1), (snap.res[1] / d).max(1));
@@ -119,10 +157,12 @@ impl Worker {
             let cache = &self.cameras[&cam.index];
             if cache.thumb.is_none() {
                 let (size, spp) = if cache.first { (first_size, FIRST_THUMB_SPP) } else { (coarse, 1) };
-                let image = self.render_view(&tracer, snap, cam, size, spp, &stale)?;
-                self.send(snap, ImageKind::Thumb, Some(cam.index), spp, &srgb(&image))?;
+                let images = self.render_view(&tracer, snap, cam, size, Self::quality(spp, denoise), &stale)?;
+                let raw = images.image.clone();
+                let shown = Self::shown(images, denoise)?;
+                self.send(snap, ImageKind::Thumb, Some(cam.index), spp, &srgb(&shown))?;
                 let cache = self.cameras.get_mut(&cam.index).expect("updated");
-                (cache.thumb, cache.first) = (Some(image), false);
+                (cache.thumb, cache.first) = (Some(raw), false);
             }
         }
         let res = UVec2::new(snap.res[0], snap.res[1]);
@@ -131,7 +171,10 @@ impl Worker {
         let remapped = if painted { Some(self.remap(snap, debug)?) } else { None };
         let rays = remapped.as_ref().map(|out| Arc::new(out.rays.clone()));
         if let Some(rays) = &rays {
-            let image = self.rerender(&tracer, snap, rays, coarse, 1, &stale)?;
+            let image = Self::shown(
+                self.rerender(&tracer, snap, rays, coarse, Self::quality(1, denoise), &stale)?,
+                denoise,
+            )?;
             let views = &self.cameras;
             let full = composite(res.x, res.y, &image, &snap.labels, |k| {
                 views.get(&(k as u32)).and_then(|c| c.view.as_ref().or(c.thumb.as_ref()))
@@ -143,7 +186,8 @@ impl Worker {
         let view_spp = self.shared.settings.view_spp;
         for cam in &snap.cameras {
             if self.cameras[&cam.index].view.is_none() {
-                let image = self.render_view(&tracer, snap, cam, res, view_spp, &stale)?;
+                let image =
+                    self.render_view(&tracer, snap, cam, res, Self::quality(view_spp, false), &stale)?.image;
                 self.cameras.get_mut(&cam.index).expect("updated").view = Some(image);
                 if snap.view == (ViewMode::Source, Some(cam.index)) {
                     self.view_picture(snap, remapped.as_deref())?;
@@ -153,7 +197,9 @@ impl Worker {
         if let Some(rays) = &rays {
             let mut spp = 1;
             loop {
-                let mut image = self.rerender(&tracer, snap, rays, res, spp, &stale)?;
+                let images = self.rerender(&tracer, snap, rays, res, Self::quality(spp, denoise), &stale)?;
+                let raw = denoise.then(|| images.image.clone());
+                let mut image = Self::shown(images, denoise)?;
                 if spp < view_spp {
                     // Painted pixels keep their camera's view samples until the rerender has
                     // as many there (it traces those very rays); from then on it is exactly
@@ -162,6 +208,9 @@ impl Worker {
                     image = composite(res.x, res.y, &image, &snap.labels, |k| {
                         views.get(&(k as u32)).and_then(|c| c.view.as_ref())
                     });
+                } else if let Some(raw) = &raw {
+                    // Denoised, the painted pixels still show the camera's own samples.
+                    image = composite(res.x, res.y, &image, &snap.labels, |_| Some(raw));
                 }
                 self.send(snap, ImageKind::Preview, None, spp, &srgb(&image))?;
                 if spp >= self.shared.settings.preview_spp {
@@ -199,9 +248,9 @@ impl Worker {
         snap: &Snapshot,
         cam: &StudioCamera,
         res: UVec2,
-        spp: u32,
+        quality: Quality,
         stale: &Stale<'_>,
-    ) -> Result<RgbImage> {
+    ) -> Result<FilmImages> {
         stale.check()?;
         let camera = cam.desc()?.build(res)?;
         let job = CameraRender {
@@ -211,9 +260,9 @@ impl Worker {
             camera_id: cam.index,
             frame: snap.frame,
             shutter: (0.0, 0.0),
-            quality: Self::quality(spp),
+            quality,
         };
-        Ok(job.run(&mut LensChain::new(), stale)?.images.image)
+        Ok(job.run(&mut LensChain::new(), stale)?.images)
     }
 
     fn rerender(
@@ -222,16 +271,12 @@ impl Worker {
         snap: &Snapshot,
         rays: &Arc<RayFile>,
         res: UVec2,
-        spp: u32,
+        quality: Quality,
         stale: &Stale<'_>,
-    ) -> Result<RgbImage> {
+    ) -> Result<FilmImages> {
         stale.check()?;
-        let job = Rerender {
-            resolution: Some(res),
-            quality: Self::quality(spp),
-            ..Rerender::new(Arc::clone(rays), snap.frame)
-        };
-        Ok(job.run(tracer, stale)?.images.image)
+        let job = Rerender { resolution: Some(res), quality, ..Rerender::new(Arc::clone(rays), snap.frame) };
+        Ok(job.run(tracer, stale)?.images)
     }
 
     /// The remap of the snapshot's maps, through `mcc`'s own remapper; reused while the maps,

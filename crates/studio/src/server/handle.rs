@@ -54,6 +54,7 @@ fn run(shared: &Arc<Shared>, id: Option<u64>, request: Request) -> Result<Vec<Ou
         }
         Request::View { mode, camera } => session.set_view(mode, camera)?,
         Request::Settings { seamless } => session.set_seamless(seamless),
+        Request::Denoise { on } => session.set_denoise(on),
         Request::Frame { frame } => {
             session.switch_frame(frame, || shared.source.cameras(frame))?;
             layers.extend([Layer::Labels, Layer::Regions]);

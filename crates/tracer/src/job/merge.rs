@@ -6,6 +6,7 @@
 
 use super::COUNT_KEYS;
 use super::band::{Band, IMAGE_SIZE_KEY, TILE_KEY, TILE_ROWS_KEY};
+use super::output::{DENOISED_LAYER, DENOISER_KEY, denoise_final, is_setting_key};
 use crate::error::{Result, TracerError};
 use crate::image::{GrayImage, RgbImage};
 use crate::image_io::{Aov, ExrImage, ExrLayer, read_exr, write_exr, write_png_srgb};
@@ -95,8 +96,7 @@ impl Piece {
         self.image
             .metadata
             .iter()
-            .filter(|(k, _)| k.starts_with("mcctrace/") && !band_keys.contains(&k.as_str()))
-            .filter(|(k, _)| !COUNT_KEYS.contains(&k.as_str()))
+            .filter(|(k, _)| is_setting_key(k) && !band_keys.contains(&k.as_str()))
             .map(|(k, v)| (k.as_str(), v.as_str()))
             .collect()
     }
@@ -246,15 +246,41 @@ fn write_merged(pieces: &BTreeMap<u32, &Piece>, first: &Piece, out: &Path) -> Re
         rays.to_string(),
         samples.to_string(),
     ]));
-    let aovs: Vec<Aov<'_>> = layers
+    // Bands rendered with `--denoise` carry albedo and normal, not a denoised picture: the
+    // whole image is denoised here, once, so no band edge shows as a seam.
+    let denoised = if first.image.metadata.get("mcctrace/denoise").is_some_and(|v| v == "true") {
+        let aux = |name: &str| match layers.get(name) {
+            Some(ExrLayer::Rgb(image)) => Ok(image),
+            _ => Err(TracerError::image(
+                &first.path,
+                format!(
+                    "rendered with --denoise but has no RGB layer {name} to denoise the merged image with"
+                ),
+            )),
+        };
+        let (image, denoiser) = denoise_final(&rgb, aux("albedo")?, aux("normal")?)?;
+        metadata.push((DENOISER_KEY, denoiser));
+        Some(image)
+    } else {
+        None
+    };
+    // Without `--aovs`, the bands' albedo and normal were only for the denoiser: the merged file
+    // holds the layers the single run would have written.
+    let aux_only =
+        denoised.is_some() && first.image.metadata.get("mcctrace/aovs").is_some_and(|v| v == "false");
+    let mut aovs: Vec<Aov<'_>> = layers
         .iter()
+        .filter(|_| !aux_only)
         .map(|(name, layer)| match layer {
             ExrLayer::Rgb(image) => Aov::Rgb { name, image },
             ExrLayer::Gray(image) => Aov::Gray { name, image },
         })
         .collect();
+    if let Some(image) = &denoised {
+        aovs.push(Aov::Rgb { name: DENOISED_LAYER, image });
+    }
     write_exr(out, &rgb, &aovs, &metadata)?;
     let png = out.with_extension("png");
-    write_png_srgb(&png, &rgb)?;
+    write_png_srgb(&png, denoised.as_ref().unwrap_or(&rgb))?;
     Ok(Merged { exr: out.to_path_buf(), png, bands: pieces.len(), size })
 }

@@ -3,7 +3,9 @@
 
 use super::{Band, EnvironmentImage, Quality, SceneSetup};
 use crate::camera::Projection;
+use crate::denoise::{Aux, Denoiser, Mode};
 use crate::error::Result;
+use crate::image::RgbImage;
 use crate::image_io::{Aov, write_exr as write_exr_file, write_png_srgb};
 use crate::render::Rendered;
 use std::path::{Path, PathBuf};
@@ -27,6 +29,19 @@ pub struct Provenance<'a> {
 /// Header keys of the render's counts, which differ between runs of the same settings (the
 /// seconds) or add up over bands: not settings, so resuming does not compare them.
 pub const COUNT_KEYS: [&str; 3] = ["mcctrace/seconds", "mcctrace/rays", "mcctrace/samples"];
+
+/// Header key: what a denoised picture was denoised with (OIDN's version, filter, auxiliaries).
+/// A record of the machine's library, not a setting: resuming does not compare it.
+pub const DENOISER_KEY: &str = "mcctrace/denoiser";
+
+/// The layer holding the denoised beauty beside the raw one (`denoised.R`, `.G`, `.B`).
+pub const DENOISED_LAYER: &str = "denoised";
+
+/// Whether a header key records a setting (compared when resuming or merging), rather than a
+/// count or the denoiser's description.
+pub fn is_setting_key(key: &str) -> bool {
+    key.starts_with("mcctrace/") && !COUNT_KEYS.contains(&key) && key != DENOISER_KEY
+}
 
 /// What the EXR header records besides the pixels.
 #[derive(Clone, Copy, Debug)]
@@ -89,6 +104,10 @@ impl<'a> RenderInfo<'a> {
             ("mcctrace/frame", self.frame.to_string()),
             ("mcctrace/shutter", format!("{}..{}", self.shutter.0, self.shutter.1)),
         ];
+        if q.denoise {
+            // Only when asked, so outputs written before denoising existed still resume.
+            out.push(("mcctrace/denoise", "true".to_owned()));
+        }
         let p = &self.provenance;
         if let Some(projection) = &p.projection {
             out.push(("mcctrace/projection", describe_projection(projection)));
@@ -139,9 +158,19 @@ pub fn describe_projection(p: &Projection) -> String {
     }
 }
 
+/// The denoised beauty of a whole picture and what made it (`DENOISER_KEY`'s value).
+pub fn denoise_final(image: &RgbImage, albedo: &RgbImage, normal: &RgbImage) -> Result<(RgbImage, String)> {
+    let denoiser = Denoiser::shared()?;
+    let denoised = denoiser.denoise(image, Some(Aux { albedo, normal }), Mode::Final)?;
+    Ok((denoised, denoiser.describe(Mode::Final, true)))
+}
+
 /// Writes `rendered` to the EXR `path`: the beauty image, its AOV layers if the quality asked
-/// for them, and `mcctrace/…` header attributes (settings and counts).
-pub fn write_exr(path: &Path, rendered: &Rendered, info: &RenderInfo<'_>) -> Result<()> {
+/// for them, and `mcctrace/…` header attributes (settings and counts). With `denoise`, a whole
+/// picture also gets its denoised beauty as layer [`DENOISED_LAYER`], which is returned, and
+/// the denoiser in the header; a band instead keeps the albedo and normal layers the merge
+/// denoises the whole image with (a band alone would show seams).
+pub fn write_exr(path: &Path, rendered: &Rendered, info: &RenderInfo<'_>) -> Result<Option<RgbImage>> {
     let (images, q) = (&rendered.images, info.quality);
     let mut metadata = info.settings();
     let s = &rendered.stats;
@@ -150,7 +179,7 @@ pub fn write_exr(path: &Path, rendered: &Rendered, info: &RenderInfo<'_>) -> Res
         s.rays.to_string(),
         s.samples.to_string(),
     ]));
-    let layers: Vec<Aov<'_>> = if q.aovs {
+    let mut layers: Vec<Aov<'_>> = if q.aovs {
         vec![
             Aov::Rgb { name: "albedo", image: &images.albedo },
             Aov::Rgb { name: "normal", image: &images.normal },
@@ -158,18 +187,34 @@ pub fn write_exr(path: &Path, rendered: &Rendered, info: &RenderInfo<'_>) -> Res
             Aov::Rgb { name: "variance", image: &images.variance },
             Aov::Gray { name: "samples", image: &images.samples },
         ]
+    } else if q.denoise && info.band.is_some() {
+        vec![
+            Aov::Rgb { name: "albedo", image: &images.albedo },
+            Aov::Rgb { name: "normal", image: &images.normal },
+        ]
     } else {
         Vec::new()
     };
-    write_exr_file(path, &images.image, &layers, &metadata)
+    let denoised = if q.denoise && info.band.is_none() {
+        let (denoised, denoiser) = denoise_final(&images.image, &images.albedo, &images.normal)?;
+        metadata.push((DENOISER_KEY, denoiser));
+        Some(denoised)
+    } else {
+        None
+    };
+    if let Some(image) = &denoised {
+        layers.push(Aov::Rgb { name: DENOISED_LAYER, image });
+    }
+    write_exr_file(path, &images.image, &layers, &metadata)?;
+    Ok(denoised)
 }
 
-/// Writes `rendered` to `exr` ([`write_exr`]) and its sRGB preview beside it; returns the
-/// PNG's path.
+/// Writes `rendered` to `exr` ([`write_exr`]) and its sRGB preview beside it, the denoised
+/// picture when one was made; returns the PNG's path.
 pub fn write_render(exr: &Path, rendered: &Rendered, info: &RenderInfo<'_>) -> Result<PathBuf> {
-    write_exr(exr, rendered, info)?;
+    let denoised = write_exr(exr, rendered, info)?;
     let png = exr.with_extension("png");
-    write_png_srgb(&png, &rendered.images.image)?;
+    write_png_srgb(&png, denoised.as_ref().unwrap_or(&rendered.images.image))?;
     Ok(png)
 }
 

@@ -7,7 +7,7 @@ use crate::render::RenderSettings;
 use crate::scene::Scene;
 
 /// How well to render. [`Quality::DEFAULT`]: 64 samples per pixel, seed 0, the integrator's
-/// default depths, no splitting, no AOVs, uniform sampling.
+/// default depths, no splitting, no AOVs, uniform sampling, no denoising.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Quality {
     /// Samples per pixel (with `adaptive`, the average).
@@ -24,6 +24,9 @@ pub struct Quality {
     pub aovs: bool,
     /// Spread the samples adaptively (`crate::adaptive`).
     pub adaptive: bool,
+    /// Denoise the finished picture (`crate::denoise`): the film then records albedo and normal
+    /// whether or not `aovs` asks to write them.
+    pub denoise: bool,
 }
 
 impl Quality {
@@ -36,6 +39,7 @@ impl Quality {
         split: IntegratorConfig::DEFAULT.split,
         aovs: false,
         adaptive: false,
+        denoise: false,
     };
 
     /// The same settings at `spp` samples per pixel.
@@ -65,7 +69,7 @@ impl Quality {
             frame,
             camera_id,
             shutter,
-            aovs: self.aovs,
+            aovs: self.aovs || self.denoise,
             adaptive: self.adaptive,
             rows: None,
         }

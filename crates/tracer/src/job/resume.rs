@@ -4,7 +4,7 @@
 //! said, so a farm task re-run after a crash, a kill or a changed setting never keeps a stale or
 //! damaged frame.
 
-use super::COUNT_KEYS;
+use super::{COUNT_KEYS, DENOISER_KEY};
 use crate::image_io::{read_exr, read_png8};
 use glam::UVec2;
 use std::collections::BTreeMap;
@@ -126,7 +126,7 @@ pub fn compare_settings(
     run: impl IntoIterator<Item = (String, String)>,
 ) -> Result<(), Stale> {
     let settings = |pairs: &mut dyn Iterator<Item = (String, String)>| -> BTreeMap<String, String> {
-        pairs.filter(|(k, _)| !COUNT_KEYS.contains(&k.as_str())).collect()
+        pairs.filter(|(k, _)| !COUNT_KEYS.contains(&k.as_str()) && k != DENOISER_KEY).collect()
     };
     let file = settings(&mut recorded.into_iter());
     let run = settings(&mut run.into_iter());
