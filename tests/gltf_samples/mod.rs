@@ -3,6 +3,7 @@
 //! scene. The models are read in place, never copied into the repository.
 
 mod texture_transform;
+mod vertex_colors;
 
 use std::path::PathBuf;
 

@@ -135,7 +135,7 @@ pub struct PathTracer {
     /// which case traversal runs without any test callback.
     alpha_tested: Option<Vec<bool>>,
     /// Every material is an untextured, opaque Lambertian (no metallic, specular or
-    /// transmission weight), no triangle has vertex normals and every light is an emissive
+    /// transmission weight), no triangle has vertex normals or colours and every light is an emissive
     /// triangle, so renders may take the Lambert-only path (see [`PathTracer::lambert_only`]).
     lambert_only: bool,
     environment: Vec3,
@@ -170,6 +170,7 @@ impl PathTracer {
             });
         let lights = LightSampler::new(scene);
         let lambert_only = attributes.normals.is_none()
+            && attributes.colors.is_none()
             && lights.triangles_only()
             && scene.materials.iter().all(|m| {
                 m.textures.is_empty()

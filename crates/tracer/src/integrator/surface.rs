@@ -19,6 +19,8 @@ pub(super) struct Attributes {
     uvs: Option<Vec<[Vec2; 3]>>,
     uvs1: Option<Vec<[Vec2; 3]>>,
     tangents: Option<Vec<[Vec4; 3]>>,
+    /// Vertex colours (glTF `COLOR_0`), multiplying base colour and alpha.
+    pub(super) colors: Option<Vec<[Vec4; 3]>>,
 }
 
 impl Attributes {
@@ -32,6 +34,7 @@ impl Attributes {
             uvs: gather(&mesh.triangles, &mesh.uvs),
             uvs1: gather(&mesh.triangles, &mesh.uvs1),
             tangents: gather(&mesh.triangles, &mesh.tangents),
+            colors: gather(&mesh.triangles, &mesh.colors),
         }
     }
 }
@@ -90,7 +93,8 @@ impl PathTracer {
         }
     }
 
-    /// The material evaluated at `si` (textures, normal map).
+    /// The material evaluated at `si` (textures, normal map, vertex colour). `UNTEXTURED`: the
+    /// scene has none of these (the Lambert-only path).
     #[inline(always)]
     pub(super) fn shade<const UNTEXTURED: bool>(
         &self,
@@ -98,20 +102,36 @@ impl PathTracer {
         si: &SurfaceInteraction,
         b: [f32; 3],
     ) -> ShadingPoint {
-        if UNTEXTURED || material.textures.is_empty() {
-            return ShadingPoint {
+        let mut sp = if UNTEXTURED || material.textures.is_empty() {
+            ShadingPoint {
                 base_color: material.base_color,
                 alpha: material.alpha,
                 metallic: material.metallic,
                 roughness: material.roughness,
                 emission: material.emission,
                 normal: si.shading.z,
+            }
+        } else {
+            let uv = self.uvs(si.triangle, b);
+            let frame = if material.textures.normal.is_some() {
+                self.tangent_frame(si.triangle, b)
+            } else {
+                NO_FRAME
             };
+            shading::evaluate(material, &self.textures, uv, si.shading.z, &frame)
+        };
+        if !UNTEXTURED && let Some(c) = self.vertex_color(si.triangle, b) {
+            sp.base_color *= c.truncate();
+            sp.alpha = (sp.alpha * c.w).clamp(0.0, 1.0);
         }
-        let uv = self.uvs(si.triangle, b);
-        let frame =
-            if material.textures.normal.is_some() { self.tangent_frame(si.triangle, b) } else { NO_FRAME };
-        shading::evaluate(material, &self.textures, uv, si.shading.z, &frame)
+        sp
+    }
+
+    /// The interpolated vertex colour at barycentrics `b` of `triangle`, when the mesh has
+    /// colours.
+    #[inline]
+    fn vertex_color(&self, triangle: u32, b: [f32; 3]) -> Option<Vec4> {
+        self.attributes.colors.as_ref().map(|c| lerp3(c[triangle as usize], b))
     }
 
     /// Tangent data for normal mapping: vertex tangents if the mesh has them, and the
@@ -148,7 +168,10 @@ impl PathTracer {
             return true;
         }
         let material = &self.materials[self.material_ids[triangle as usize] as usize];
-        let alpha = shading::alpha(material, &self.textures, self.uvs(triangle, b));
+        let mut alpha = shading::alpha(material, &self.textures, self.uvs(triangle, b));
+        if let Some(c) = self.vertex_color(triangle, b) {
+            alpha *= c.w;
+        }
         match material.alpha_mode {
             AlphaMode::Opaque => true,
             AlphaMode::Mask { cutoff } => alpha >= cutoff,

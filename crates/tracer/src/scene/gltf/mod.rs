@@ -268,6 +268,12 @@ impl Loader<'_> {
                 Some(a) => Some(accessor::read_vec4(&a, self.buffers, "TANGENT").map_err(fail)?),
                 None => None,
             };
+            // Blender's importer multiplies base colour (and alpha, unless opaque) by COLOR_0
+            // whenever a primitive has it, as the specification says; the other sets it ignores.
+            let colors = match prim.get(&Semantic::Colors(0)) {
+                Some(a) => Some(accessor::read_color(&a, self.buffers, "COLOR_0").map_err(fail)?),
+                None => None,
+            };
             let mut indices = match prim.indices() {
                 Some(a) => accessor::read_indices(&a, self.buffers).map_err(fail)?,
                 None => {
@@ -294,6 +300,7 @@ impl Loader<'_> {
                 uvs,
                 uvs1,
                 tangents,
+                colors,
                 indices,
                 material,
             });

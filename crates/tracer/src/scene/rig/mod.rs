@@ -83,6 +83,8 @@ pub(in crate::scene) struct Primitive {
     pub uvs1: Option<Vec<Vec2>>,
     /// Tangents (xyz, w = bitangent sign).
     pub tangents: Option<Vec<Vec4>>,
+    /// Vertex colours (linear RGBA, `COLOR_0`).
+    pub colors: Option<Vec<Vec4>>,
     /// Three indices per triangle.
     pub indices: Vec<u32>,
     /// Material of every triangle.
@@ -273,7 +275,7 @@ impl<'a> Frame<'a> {
             indices: Some(indices),
             material: prim.material,
         };
-        let extras = MeshExtras { uvs1: prim.uvs1.as_deref(), tangents };
+        let extras = MeshExtras { uvs1: prim.uvs1.as_deref(), tangents, colors: prim.colors.as_deref() };
         mesh.push_with(part, extras)
     }
 }

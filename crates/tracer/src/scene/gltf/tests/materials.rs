@@ -177,6 +177,55 @@ fn scene_gltf_glb_image_from_the_binary_chunk() {
     assert!(scene.textures.is_empty() && scene.materials[0].textures.is_empty());
 }
 
+/// `COLOR_0` in every form glTF allows (RGB or RGBA; float, normalised u8 or u16) reaches the
+/// mesh as linear RGBA; a primitive without colours beside one with them gets white (no
+/// change); a form glTF does not allow is an error naming the accessor.
+#[test]
+fn scene_gltf_vertex_colours() {
+    let mut b = Builder::default();
+    let pos = b.vec3(&TRIANGLE);
+    let rgb = b.vec3(&[[1.0, 0.5, 0.0], [0.0, 1.0, 0.25], [0.5, 0.5, 0.5]]);
+    let u8s = b.add(vec![255, 0, 51, 255, 0, 255, 0, 102, 0, 0, 255, 0], 5121, "VEC4", 3);
+    let u16s = b.add(
+        [65535u16, 0, 0, 0, 65535, 0, 0, 0, 65535].iter().flat_map(|v| v.to_le_bytes()).collect(),
+        5123,
+        "VEC3",
+        3,
+    );
+    let doc = b.finish(json!({
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [
+            {"attributes": {"POSITION": pos}},
+            {"attributes": {"POSITION": pos, "COLOR_0": rgb}},
+            {"attributes": {"POSITION": pos, "COLOR_0": u8s}},
+            {"attributes": {"POSITION": pos, "COLOR_0": u16s}},
+        ]}],
+    }));
+    let mut doc = doc;
+    doc["accessors"][u8s]["normalized"] = json!(true);
+    doc["accessors"][u16s]["normalized"] = json!(true);
+    let dir = TempDir::new("colours");
+    let scene = load_json(&dir, "colours.gltf", &doc).unwrap();
+    let c = &scene.mesh.colors;
+    assert_eq!(c[..3], [Vec4::ONE; 3]);
+    assert_eq!(
+        c[3..6],
+        [Vec4::new(1.0, 0.5, 0.0, 1.0), Vec4::new(0.0, 1.0, 0.25, 1.0), Vec4::new(0.5, 0.5, 0.5, 1.0)]
+    );
+    assert_eq!(c[6], Vec4::new(1.0, 0.0, 0.2, 1.0));
+    assert_eq!(c[7], Vec4::new(0.0, 1.0, 0.0, 0.4));
+    assert_eq!(
+        c[9..12],
+        [Vec4::new(1.0, 0.0, 0.0, 1.0), Vec4::new(0.0, 1.0, 0.0, 1.0), Vec4::new(0.0, 0.0, 1.0, 1.0)]
+    );
+
+    // Unnormalised bytes are not a colour glTF allows.
+    let mut bad = doc.clone();
+    bad["accessors"][u8s]["normalized"] = json!(false);
+    let bytes = serde_json::to_vec(&bad).unwrap();
+    expect_error(&dir, "bytes.gltf", &bytes, &[&format!("accessor {u8s} used as COLOR_0")]);
+}
+
 #[test]
 fn scene_gltf_tangents_second_uvs_and_mirroring() {
     let mut b = Builder::default();
