@@ -231,3 +231,38 @@ fn glass_ball_refracts_as_snell_and_fresnel_say() {
     assert!(n > 300.0 && beside > 300, "{n} pixels through the ball, {beside} beside it");
     assert!(mean < 2e-3 && within > 0.95 && max < 0.03, "landings disagree with Snell's law");
 }
+
+/// A half-metal glass (metallic 0.5, transmission 1, white, smooth) under a sun overhead, seen
+/// at 45°: Cycles' Principled BSDF splits it into metal (½) and glass (½) with no diffuse part,
+/// so neither the smooth metal nor the glass sends the sun towards the camera and the picture
+/// is black. Taking the whole opaque material (half of it diffuse) whenever the glass was not
+/// chosen turned such glass milky: ¼ of a white Lambertian. The control without transmission
+/// shows that this view does see a diffuse part where there is one.
+#[test]
+fn half_metal_glass_has_no_diffuse_part() {
+    let dir = TempDir::new("half-metal-glass");
+    let mean = |transmission: f32| {
+        let mut g = Gltf::new("scene_features");
+        let plane = g.material(&format!(
+            r#"{{"name": "probe", "doubleSided": true,
+                "pbrMetallicRoughness": {{"baseColorFactor": [1, 1, 1, 1], "metallicFactor": 0.5, "roughnessFactor": 0}},
+                "extensions": {{"KHR_materials_transmission": {{"transmissionFactor": {transmission}}}}}}}"#
+        ));
+        g.mesh_node(&[(&quad(Vec3::ZERO, Vec3::X * 10.0, Vec3::Z * 10.0, Vec3::Y), plane)], "");
+        g.light(r#"{"type": "directional", "intensity": 683}"#, Vec3::Y, Vec3::NEG_Y);
+        let scene = load(&g.write(&dir, &format!("probe{transmission}")));
+        let cam = Ortho::new(Vec3::new(0.0, 3.0, 3.0), Vec3::ZERO, Vec3::Y, 1.0, UVec2::splat(16));
+        let r = render(&scene, &cam.desc, cam.size, 64, 2);
+        let image = &r.images.image;
+        let sum: Vec3 =
+            (0..16).flat_map(|j| (0..16).map(move |i| (i, j))).map(|(i, j)| image.get(i, j)).sum();
+        sum / 256.0
+    };
+    let opaque = mean(0.0);
+    assert!(opaque.min_element() > 0.05, "the control sees no diffuse part: {opaque}");
+    let glass = mean(1.0);
+    assert!(
+        glass.max_element() < 1e-3,
+        "half-metal glass is milky: {glass} (the opaque half-metal: {opaque})"
+    );
+}

@@ -43,7 +43,8 @@ impl Vertex<'_> {
         }
         let params = BsdfParams {
             base_color: sp.base_color,
-            metallic: sp.metallic,
+            // What is not glass: the metal and the dielectric over diffuse in Cycles' proportions.
+            metallic: BsdfParams::opaque_metallic(sp.metallic, self.material.transmission),
             roughness: sp.roughness,
             ..BsdfParams::of(self.material)
         };
