@@ -56,11 +56,11 @@ pub struct Material {
     pub metallic: f32,
     /// Perceptual roughness in [0, 1]; the GGX α is its square.
     pub roughness: f32,
-    /// `KHR_materials_specular` `specularFactor`: strength of the dielectric specular layer
-    /// (0 leaves a pure Lambertian dielectric).
+    /// `KHR_materials_specular` `specularFactor`: strength of the dielectric specular layer and
+    /// its grazing reflectance F90 (0 leaves a pure Lambertian dielectric).
     pub specular: f32,
     /// `KHR_materials_specular` `specularColorFactor`: tints the dielectric F0 (0.04 × this,
-    /// clamped to 1).
+    /// clamped to 1); black leaves the layer's grazing rim (F90 is the factor).
     pub specular_color: Vec3,
     /// Emitted radiance (glTF `emissiveFactor` × `emissiveStrength`; MTL `Ke`).
     pub emission: Vec3,
@@ -116,9 +116,7 @@ impl Material {
     /// True when the material has a specular (GGX) lobe at all. (A metallic-roughness texture
     /// can only scale the metallic factor, so the factor decides.)
     pub fn has_specular(&self) -> bool {
-        self.metallic > 0.0
-            || (self.specular > 0.0 && self.specular_color.max_element() > 0.0)
-            || self.transmission > 0.0
+        self.metallic > 0.0 || self.specular > 0.0 || self.transmission > 0.0
     }
 
     /// True when some of the surface may be missing (alpha mask or blend).

@@ -77,19 +77,15 @@ impl BsdfParams {
         self.metallic == 0.0 && self.specular == 0.0
     }
 
-    /// The untextured parameters of `material`.
+    /// The untextured parameters of `material`. The dielectric layer keeps its weight whatever
+    /// its tint: `KHR_materials_specular` scales F0 by the colour but not F90 (= the factor), so
+    /// a black `specularColorFactor` still leaves the grazing rim.
     pub fn of(material: &Material) -> Self {
         Self {
             base_color: material.base_color,
             metallic: material.metallic,
             roughness: material.roughness,
-            specular: if material.metallic > 0.0
-                || (material.specular > 0.0 && material.specular_color.max_element() > 0.0)
-            {
-                material.specular
-            } else {
-                0.0
-            },
+            specular: material.specular,
             specular_color: material.specular_color,
             ior: material.ior,
         }
@@ -506,6 +502,20 @@ mod tests {
                 assert!((is - uni).abs().max_element() < 0.03, "{is} vs {uni}");
             }
         }
+    }
+
+    /// `KHR_materials_specular` scales F0 by the colour, not F90: a black `specularColorFactor`
+    /// over a black base reflects nothing head-on but keeps the grazing rim (F90 = the factor).
+    #[test]
+    fn black_specular_colour_keeps_the_grazing_rim() {
+        let m = Material { specular_color: Vec3::ZERO, ..material(0.0, 0.0, 0.3, 1.0) };
+        let at = |cos_o: f32| {
+            let wo = Vec3::new((1.0 - cos_o * cos_o).sqrt(), 0.0, cos_o);
+            albedo(&Bsdf::new(&m, Vec3::Z, Vec3::Z, wo), 1 << 14).0.x
+        };
+        let (head_on, grazing) = (at(1.0), at(0.05));
+        assert!(head_on < 1e-3, "head-on {head_on}");
+        assert!(grazing > 0.2 && grazing <= 1.0, "grazing {grazing}");
     }
 
     /// What is not glass keeps Cycles' proportions: metal m, dielectric over diffuse
