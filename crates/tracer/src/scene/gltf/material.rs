@@ -202,11 +202,19 @@ pub(super) fn convert(
     // Exactly 1 at the default, so files without the extension keep their factors bit for bit.
     let f0_scale = if ior == 1.5 { 1.0 } else { ((ior - 1.0) / (ior + 1.0)).powi(2) / 0.04 };
     let transmission = transmission.map_or(0.0, |t| t.transmission_factor());
+    let (metallic, roughness) = (pbr.metallic_factor(), pbr.roughness_factor());
+    if transmission > 0.0 && metallic < 1.0 && roughness > 0.0 {
+        // The glass is a smooth interface: a frosted pane would come out clear without a word.
+        textures.warn(format!(
+            "{label}: rough transmission (roughnessFactor {roughness}, transmission {transmission}) is \
+             rendered as smooth glass; only the reflection off the opaque part is rough"
+        ));
+    }
 
     Ok(Material {
         base_color: Vec3::new(r, g, b),
-        metallic: pbr.metallic_factor(),
-        roughness: pbr.roughness_factor(),
+        metallic,
+        roughness,
         // Without the extension glTF's dielectric layer is the plain F0 = 0.04 one.
         specular: specular.as_ref().map_or(1.0, |s| s.specular_factor()),
         specular_color: specular.as_ref().map_or(Vec3::ONE, |s| Vec3::from(s.specular_color_factor()))

@@ -313,6 +313,8 @@ fn scene_gltf_alpha_transmission_and_ior() {
             {"name": "badior", "extensions": {"KHR_materials_ior": {"ior": 0.5}}},
             {"name": "high", "alphaMode": "MASK", "alphaCutoff": 1.5},
             {"name": "ttex", "extensions": {"KHR_materials_transmission": {"transmissionTexture": {"index": 0}}}},
+            {"name": "frosted", "pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0.25},
+             "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1}}},
         ],
     }));
     let dir = TempDir::new("alpha");
@@ -339,7 +341,11 @@ fn scene_gltf_alpha_transmission_and_ior() {
     assert!(warnings.contains("material 'badior': KHR_materials_ior ior 0.5 is below 1"), "{warnings}");
     assert!(warnings.contains("material 'high': alphaCutoff 1.5 is above 1"), "{warnings}");
     assert!(warnings.contains("material 'ttex'") && warnings.contains("transmissionTexture"), "{warnings}");
-    assert_eq!(scene.warnings.len(), 3, "{warnings}");
+    // Rough glass renders smooth, and says so; 'glass' and 'plain-glass' are glTF's default
+    // metal (metallicFactor 1), which transmits nothing.
+    let said = "material 'frosted': rough transmission (roughnessFactor 0.25, transmission 1) is rendered as smooth glass";
+    assert!(warnings.contains(said), "{warnings}");
+    assert_eq!(scene.warnings.len(), 4, "{warnings}");
 
     let mut negative = doc.clone();
     negative["materials"][1]["alphaCutoff"] = json!(-0.5);
