@@ -76,6 +76,10 @@ pub struct Material {
     pub transmission: f32,
     /// `KHR_materials_ior` index of refraction (glTF default 1.5).
     pub ior: f32,
+    /// `KHR_materials_unlit`, as Blender imports it: camera rays see the base colour (× texture
+    /// × vertex colour) as emitted radiance and end there; every other ray passes through, so
+    /// the surface neither lights nor shadows the scene.
+    pub unlit: bool,
     /// Texture slots.
     pub textures: MaterialTextures,
 }
@@ -97,6 +101,7 @@ impl Default for Material {
             alpha_mode: AlphaMode::Opaque,
             transmission: 0.0,
             ior: 1.5,
+            unlit: false,
             textures: MaterialTextures::default(),
         }
     }
@@ -119,9 +124,10 @@ impl Material {
         self.metallic > 0.0 || self.specular > 0.0 || self.transmission > 0.0
     }
 
-    /// True when some of the surface may be missing (alpha mask or blend).
+    /// True when some of the surface may be missing for some rays (alpha mask or blend, or an
+    /// unlit surface, which only camera rays see).
     pub fn has_alpha(&self) -> bool {
-        !matches!(self.alpha_mode, AlphaMode::Opaque)
+        !matches!(self.alpha_mode, AlphaMode::Opaque) || self.unlit
     }
 
     /// Checks the factors are finite and in range; returns what is wrong.

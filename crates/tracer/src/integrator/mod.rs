@@ -284,6 +284,11 @@ impl PathTracer {
             *first = found.as_ref().map_or(MISSED, |v| v.first_hit());
         }
         let Some(first_vertex) = found else { return out };
+        // An unlit surface shows its colour and nothing more (only camera rays see it).
+        if let (false, Some(colour)) = (LAMBERT, first_vertex.unlit()) {
+            out.radiance += colour;
+            return out;
+        }
         for branch in 0..split {
             let mut path = camera.with_sampler(sampler.branch(split, branch));
             let mut vertex = first_vertex;

@@ -34,6 +34,13 @@ impl Vertex<'_> {
         FirstHit { albedo: self.sp.base_color, normal: n, depth: self.hit.t }
     }
 
+    /// What the camera sees of an unlit surface (its base colour, as emitted radiance), or
+    /// `None` for a lit one.
+    #[inline(always)]
+    pub(super) fn unlit(&self) -> Option<Vec3> {
+        self.material.unlit.then_some(self.sp.base_color)
+    }
+
     /// The opaque BSDF here (the Lambert lobe alone with `LAMBERT`).
     #[inline(always)]
     fn bsdf<const LAMBERT: bool>(&self) -> Bsdf {
@@ -165,7 +172,7 @@ impl PathState {
     ) -> Option<Vertex<'t>> {
         let ray = &self.ray;
         out.rays += 1;
-        let Some(hit) = tracer.closest_hit::<ALPHA>(ray, self.leaving) else {
+        let Some(hit) = tracer.closest_hit::<ALPHA>(ray, self.leaving, self.depth == 0) else {
             let env = tracer.lights.environment();
             let le = env.map_or(tracer.environment, |e| e.radiance(ray.direction));
             if le != Vec3::ZERO {

@@ -162,12 +162,16 @@ impl PathTracer {
     /// Whether the alpha test lets a ray through (false) or stops it (true) at barycentrics
     /// `b` of `triangle`. Masked surfaces compare alpha with the cut-off; blended ones are
     /// hit with probability alpha, decided by a hash of the ray and the point (deterministic).
+    /// Unlit surfaces stop camera rays alone (`camera`), as Blender's import makes them.
     #[inline]
-    fn alpha_accepts(&self, tested: &[bool], triangle: u32, b: [f32; 3], ray: &Ray) -> bool {
+    fn alpha_accepts(&self, tested: &[bool], triangle: u32, b: [f32; 3], ray: &Ray, camera: bool) -> bool {
         if !tested[triangle as usize] {
             return true;
         }
         let material = &self.materials[self.material_ids[triangle as usize] as usize];
+        if material.unlit && !camera {
+            return false;
+        }
         let mut alpha = shading::alpha(material, &self.textures, self.uvs(triangle, b));
         if let Some(c) = self.vertex_color(triangle, b) {
             alpha *= c.w;
@@ -184,13 +188,19 @@ impl PathTracer {
         }
     }
 
-    /// The closest hit along `ray` (skipping `leaving`), alpha-tested with `ALPHA`.
+    /// The closest hit along `ray` (skipping `leaving`), alpha-tested with `ALPHA`; `camera`:
+    /// the ray comes from the camera (unlit surfaces stop it).
     #[inline]
-    pub(super) fn closest_hit<const ALPHA: bool>(&self, ray: &Ray, leaving: Leaving) -> Option<Hit> {
+    pub(super) fn closest_hit<const ALPHA: bool>(
+        &self,
+        ray: &Ray,
+        leaving: Leaving,
+        camera: bool,
+    ) -> Option<Hit> {
         match (ALPHA, &self.alpha_tested) {
-            (true, Some(tested)) => self
-                .bvh
-                .intersect_from(ray, f32::INFINITY, leaving, |t, b| self.alpha_accepts(tested, t, b, ray)),
+            (true, Some(tested)) => self.bvh.intersect_from(ray, f32::INFINITY, leaving, |t, b| {
+                self.alpha_accepts(tested, t, b, ray, camera)
+            }),
             _ => self.bvh.intersect_from(ray, f32::INFINITY, leaving, |_, _| true),
         }
     }
@@ -199,9 +209,9 @@ impl PathTracer {
     #[inline]
     pub(super) fn occluded<const ALPHA: bool>(&self, ray: &Ray, t_max: f32, leaving: Leaving) -> bool {
         match (ALPHA, &self.alpha_tested) {
-            (true, Some(tested)) => {
-                self.bvh.occluded_from(ray, t_max, leaving, |t, b| self.alpha_accepts(tested, t, b, ray))
-            }
+            (true, Some(tested)) => self
+                .bvh
+                .occluded_from(ray, t_max, leaving, |t, b| self.alpha_accepts(tested, t, b, ray, false)),
             _ => self.bvh.occluded_from(ray, t_max, leaving, |_, _| true),
         }
     }

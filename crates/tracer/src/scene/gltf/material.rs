@@ -1,8 +1,8 @@
 //! glTF materials to [`Material`]: the metallic-roughness factors and textures (base colour,
 //! metallic-roughness, emissive, normal with its `scale`), `alphaMode`/`alphaCutoff`,
 //! `KHR_texture_transform` on every texture reference, `KHR_materials_emissive_strength`,
-//! `KHR_materials_specular` (factors), `KHR_materials_transmission` (factor) and
-//! `KHR_materials_ior`.
+//! `KHR_materials_specular` (factors), `KHR_materials_transmission` (factor),
+//! `KHR_materials_ior` and `KHR_materials_unlit` (as Blender imports it).
 //!
 //! - Occlusion textures are ignored without a word: a path tracer computes occlusion itself.
 //! - `KHR_materials_specular` and `KHR_materials_transmission` textures are warned about and
@@ -211,15 +211,24 @@ pub(super) fn convert(
         ));
     }
 
+    // KHR_materials_unlit: Blender imports it as an emission of the base colour that camera
+    // rays alone see (a Light Path "Is Camera Ray" mix with a transparent BSDF); the emissive
+    // factors do not take part.
+    let unlit = raw.and_then(|r| r.get("extensions")).and_then(|e| e.get("KHR_materials_unlit")).is_some();
     Ok(Material {
         base_color: Vec3::new(r, g, b),
+        unlit,
         metallic,
         roughness,
         // Without the extension glTF's dielectric layer is the plain F0 = 0.04 one.
         specular: specular.as_ref().map_or(1.0, |s| s.specular_factor()),
         specular_color: specular.as_ref().map_or(Vec3::ONE, |s| Vec3::from(s.specular_color_factor()))
             * f0_scale,
-        emission: Vec3::from(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0),
+        emission: if unlit {
+            Vec3::ZERO
+        } else {
+            Vec3::from(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0)
+        },
         // A one-sided emitter must stay one-sided (docs/design.md §3.9: a two-sided Cornell light
         // is too bright), so emission follows `doubleSided`.
         emission_two_sided: m.double_sided(),

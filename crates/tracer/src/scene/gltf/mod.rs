@@ -51,6 +51,7 @@ const HANDLED_EXTENSIONS: &[&str] = &[
     "KHR_materials_transmission",
     "KHR_materials_ior",
     "KHR_texture_transform",
+    "KHR_materials_unlit",
 ];
 
 /// Loads a `.gltf` or `.glb` file (told apart by the GLB magic, not the name).
