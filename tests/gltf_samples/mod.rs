@@ -2,6 +2,7 @@
 //! copy there): what each model's README says a correct render shows, checked on the loaded
 //! scene. The models are read in place, never copied into the repository.
 
+mod corpus;
 mod lighting;
 mod texture_transform;
 mod vertex_colors;
