@@ -33,6 +33,12 @@ pub struct MaterialTextures {
     pub emissive: Option<TextureRef>,
     /// Tangent-space normal map (linear) and its `scale`.
     pub normal: Option<(TextureRef, f32)>,
+    /// `KHR_materials_specular` `specularTexture`: linear, the specular factor in A.
+    pub specular: Option<TextureRef>,
+    /// `KHR_materials_specular` `specularColorTexture`: sRGB, the F0 tint in RGB.
+    pub specular_color: Option<TextureRef>,
+    /// `KHR_materials_transmission` `transmissionTexture`: linear, the factor in R.
+    pub transmission: Option<TextureRef>,
 }
 
 impl MaterialTextures {
@@ -42,6 +48,22 @@ impl MaterialTextures {
             && self.metallic_roughness.is_none()
             && self.emissive.is_none()
             && self.normal.is_none()
+            && self.specular.is_none()
+            && self.specular_color.is_none()
+            && self.transmission.is_none()
+    }
+
+    /// Every slot's reference (the normal map's without its scale).
+    pub fn all(&self) -> [Option<TextureRef>; 7] {
+        [
+            self.base_color,
+            self.metallic_roughness,
+            self.emissive,
+            self.normal.map(|n| n.0),
+            self.specular,
+            self.specular_color,
+            self.transmission,
+        ]
     }
 }
 

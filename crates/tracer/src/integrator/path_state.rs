@@ -51,9 +51,11 @@ impl Vertex<'_> {
         let params = BsdfParams {
             base_color: sp.base_color,
             // What is not glass: the metal and the dielectric over diffuse in Cycles' proportions.
-            metallic: BsdfParams::opaque_metallic(sp.metallic, self.material.transmission),
+            metallic: BsdfParams::opaque_metallic(sp.metallic, sp.transmission),
             roughness: sp.roughness,
-            ..BsdfParams::of(self.material)
+            specular: sp.specular,
+            specular_color: sp.specular_color,
+            ior: self.material.ior,
         };
         // The hit's shading frame, unless a normal map moved the normal (then shadowed as Blender
         // does, docs/design.md §3.10).
@@ -216,7 +218,7 @@ impl PathState {
         let depth = self.depth;
         let time = self.ray.time;
         let mut decisions = Decisions { sampler: &self.sampler, vertex: depth, drawn: None };
-        let glass_weight = v.material.transmission * (1.0 - v.sp.metallic);
+        let glass_weight = v.sp.transmission * (1.0 - v.sp.metallic);
         let glass = !LAMBERT
             && glass_weight > 0.0
             && (glass_weight >= 1.0 || decisions.get(Decisions::GLASS) < glass_weight);

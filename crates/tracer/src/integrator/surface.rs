@@ -103,14 +103,7 @@ impl PathTracer {
         b: [f32; 3],
     ) -> ShadingPoint {
         let mut sp = if UNTEXTURED || material.textures.is_empty() {
-            ShadingPoint {
-                base_color: material.base_color,
-                alpha: material.alpha,
-                metallic: material.metallic,
-                roughness: material.roughness,
-                emission: material.emission,
-                normal: si.shading.z,
-            }
+            ShadingPoint::of(material, si.shading.z)
         } else {
             let uv = self.uvs(si.triangle, b);
             let frame = if material.textures.normal.is_some() {

@@ -268,7 +268,7 @@ impl Scene {
         let texture_count = self.textures.len();
         for m in &self.materials {
             let t = &m.textures;
-            let refs = [t.base_color, t.metallic_roughness, t.emissive, t.normal.map(|n| n.0)];
+            let refs = t.all();
             if let Some(r) =
                 refs.iter().flatten().find(|r| r.texture as usize >= texture_count || r.uv_set > 1)
             {

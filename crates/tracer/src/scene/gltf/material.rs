@@ -1,12 +1,11 @@
 //! glTF materials to [`Material`]: the metallic-roughness factors and textures (base colour,
 //! metallic-roughness, emissive, normal with its `scale`), `alphaMode`/`alphaCutoff`,
 //! `KHR_texture_transform` on every texture reference, `KHR_materials_emissive_strength`,
-//! `KHR_materials_specular` (factors), `KHR_materials_transmission` (factor),
+//! `KHR_materials_specular` and `KHR_materials_transmission` (factors and textures),
 //! `KHR_materials_ior` and `KHR_materials_unlit` (as Blender imports it).
 //!
 //! - Occlusion textures are ignored without a word: a path tracer computes occlusion itself.
-//! - `KHR_materials_specular` and `KHR_materials_transmission` textures are warned about and
-//!   ignored (their factors apply).
+//! - `KHR_materials_specular` and `KHR_materials_transmission` textures multiply their factors.
 //! - `KHR_materials_ior` also sets the dielectric F0 of the opaque lobes, as the extension
 //!   defines it: F0 = ((ior − 1)/(ior + 1))² × specular colour. The material model's F0 is
 //!   0.04 × `specular_color`, so the colour is scaled by F0(ior) / 0.04 (1 at the default 1.5).
@@ -156,22 +155,38 @@ pub(super) fn convert(
     }
     // Occlusion: ignored on purpose (path tracing computes it).
 
-    let mut unused: Vec<&str> = Vec::new();
-    if specular.as_ref().is_some_and(|s| s.specular_texture().is_some()) {
-        unused.push("KHR_materials_specular specularTexture");
+    // KHR_materials_specular's and KHR_materials_transmission's textures multiply their
+    // factors (specular in A, its colour in sRGB RGB, transmission in R).
+    if let Some(info) = specular.as_ref().and_then(|s| s.specular_texture()) {
+        let user = format!("{label}, KHR_materials_specular specularTexture");
+        slots.specular = textures.reference(
+            &info.texture(),
+            info.tex_coord(),
+            transform_of(&info),
+            ColorSpace::Linear,
+            &user,
+        );
     }
-    if specular.as_ref().is_some_and(|s| s.specular_color_texture().is_some()) {
-        unused.push("KHR_materials_specular specularColorTexture");
+    if let Some(info) = specular.as_ref().and_then(|s| s.specular_color_texture()) {
+        let user = format!("{label}, KHR_materials_specular specularColorTexture");
+        slots.specular_color = textures.reference(
+            &info.texture(),
+            info.tex_coord(),
+            transform_of(&info),
+            ColorSpace::Srgb,
+            &user,
+        );
     }
     let transmission = m.transmission();
-    if transmission.as_ref().is_some_and(|t| t.transmission_texture().is_some()) {
-        unused.push("KHR_materials_transmission transmissionTexture");
-    }
-    if !unused.is_empty() {
-        textures.warn(format!(
-            "{label}: textures of these extensions are not supported (their factors apply): {}",
-            unused.join(", ")
-        ));
+    if let Some(info) = transmission.as_ref().and_then(|t| t.transmission_texture()) {
+        let user = format!("{label}, KHR_materials_transmission transmissionTexture");
+        slots.transmission = textures.reference(
+            &info.texture(),
+            info.tex_coord(),
+            transform_of(&info),
+            ColorSpace::Linear,
+            &user,
+        );
     }
 
     let alpha_mode = match m.alpha_mode() {

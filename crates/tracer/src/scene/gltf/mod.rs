@@ -318,7 +318,7 @@ impl Loader<'_> {
     fn check_texture_coordinates(&mut self, what: &str, material: u32, has: [bool; 2]) {
         let Some(m) = self.scene.materials.get(material as usize) else { return };
         let t = &m.textures;
-        let refs = [t.base_color, t.metallic_roughness, t.emissive, t.normal.map(|n| n.0)];
+        let refs = t.all();
         let used = |set: u32| refs.iter().flatten().any(|r| r.uv_set == set);
         let name = m.name.clone();
         if (used(0) || (used(1) && !has[1])) && !has[0] {
