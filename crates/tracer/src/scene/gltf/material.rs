@@ -103,36 +103,34 @@ pub(super) fn convert(
     let label = format!("material '{name}'");
 
     let mut slots = MaterialTextures::default();
-    if let Some(info) = pbr.base_color_texture() {
-        let user = format!("{label}, base colour texture");
-        slots.base_color = textures.reference(
-            &info.texture(),
-            info.tex_coord(),
-            transform_of(&info),
-            ColorSpace::Srgb,
-            &user,
-        );
-    }
-    if let Some(info) = pbr.metallic_roughness_texture() {
-        let user = format!("{label}, metallic-roughness texture");
-        slots.metallic_roughness = textures.reference(
-            &info.texture(),
-            info.tex_coord(),
-            transform_of(&info),
-            ColorSpace::Linear,
-            &user,
-        );
-    }
-    if let Some(info) = m.emissive_texture() {
-        let user = format!("{label}, emissive texture");
-        slots.emissive = textures.reference(
-            &info.texture(),
-            info.tex_coord(),
-            transform_of(&info),
-            ColorSpace::Srgb,
-            &user,
-        );
-    }
+    // A slot's reference from its texture info: the info's own coordinate set and transform.
+    let mut slot = |info: Option<gltf::texture::Info>, what: &str, space: ColorSpace| {
+        let info = info?;
+        let user = format!("{label}, {what}");
+        textures.reference(&info.texture(), info.tex_coord(), transform_of(&info), space, &user)
+    };
+    slots.base_color = slot(pbr.base_color_texture(), "base colour texture", ColorSpace::Srgb);
+    slots.metallic_roughness =
+        slot(pbr.metallic_roughness_texture(), "metallic-roughness texture", ColorSpace::Linear);
+    slots.emissive = slot(m.emissive_texture(), "emissive texture", ColorSpace::Srgb);
+    // KHR_materials_specular's and KHR_materials_transmission's textures multiply their
+    // factors (specular in A, its colour in sRGB RGB, transmission in R).
+    let transmission = m.transmission();
+    slots.specular = slot(
+        specular.as_ref().and_then(|s| s.specular_texture()),
+        "KHR_materials_specular specularTexture",
+        ColorSpace::Linear,
+    );
+    slots.specular_color = slot(
+        specular.as_ref().and_then(|s| s.specular_color_texture()),
+        "KHR_materials_specular specularColorTexture",
+        ColorSpace::Srgb,
+    );
+    slots.transmission = slot(
+        transmission.as_ref().and_then(|t| t.transmission_texture()),
+        "KHR_materials_transmission transmissionTexture",
+        ColorSpace::Linear,
+    );
     if let Some(normal) = m.normal_texture() {
         let user = format!("{label}, normal texture");
         let transform = match raw_transform(raw.and_then(|r| r.get("normalTexture"))) {
@@ -154,40 +152,6 @@ pub(super) fn convert(
             .map(|r| (r, scale));
     }
     // Occlusion: ignored on purpose (path tracing computes it).
-
-    // KHR_materials_specular's and KHR_materials_transmission's textures multiply their
-    // factors (specular in A, its colour in sRGB RGB, transmission in R).
-    if let Some(info) = specular.as_ref().and_then(|s| s.specular_texture()) {
-        let user = format!("{label}, KHR_materials_specular specularTexture");
-        slots.specular = textures.reference(
-            &info.texture(),
-            info.tex_coord(),
-            transform_of(&info),
-            ColorSpace::Linear,
-            &user,
-        );
-    }
-    if let Some(info) = specular.as_ref().and_then(|s| s.specular_color_texture()) {
-        let user = format!("{label}, KHR_materials_specular specularColorTexture");
-        slots.specular_color = textures.reference(
-            &info.texture(),
-            info.tex_coord(),
-            transform_of(&info),
-            ColorSpace::Srgb,
-            &user,
-        );
-    }
-    let transmission = m.transmission();
-    if let Some(info) = transmission.as_ref().and_then(|t| t.transmission_texture()) {
-        let user = format!("{label}, KHR_materials_transmission transmissionTexture");
-        slots.transmission = textures.reference(
-            &info.texture(),
-            info.tex_coord(),
-            transform_of(&info),
-            ColorSpace::Linear,
-            &user,
-        );
-    }
 
     let alpha_mode = match m.alpha_mode() {
         gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
