@@ -31,6 +31,7 @@ fn without_shortcuts(scene: &Scene) -> Scene {
             metallic_roughness: Some(TextureRef::new(white)),
             emissive: Some(TextureRef::new(white)),
             normal: Some((TextureRef::new(flat), 1.0)),
+            ..MaterialTextures::default()
         };
         m.alpha_mode = AlphaMode::Mask { cutoff: 0.0 };
         // A specular lobe too faint to matter: it is evaluated and sampled at every hit.

@@ -157,4 +157,5 @@ parity!(
     normal_map,
     alpha_mask,
     transmission,
+    half_metal_glass,
 );

@@ -3,7 +3,7 @@
 use super::assets::*;
 use super::harness::*;
 use glam::{DVec3, Quat, UVec2, Vec2, Vec3, Vec4};
-use std::f32::consts::{FRAC_PI_2, PI};
+use std::f32::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 
 /// A constant normal map tilting the normal ~30° along the tangent, on two ρ = 0.5 floor
 /// halves lit by a 1 W/m² directional light: the left half's tangent frame comes from its
@@ -230,4 +230,83 @@ fn glass_ball_refracts_as_snell_and_fresnel_say() {
     );
     assert!(n > 300.0 && beside > 300, "{n} pixels through the ball, {beside} beside it");
     assert!(mean < 2e-3 && within > 0.95 && max < 0.03, "landings disagree with Snell's law");
+}
+
+/// A half-metal glass (metallic 0.5, transmission 1, white, smooth) under a sun overhead, seen
+/// at 45°: Cycles' Principled BSDF splits it into metal (½) and glass (½) with no diffuse part,
+/// so neither the smooth metal nor the glass sends the sun towards the camera and the picture
+/// is black. Taking the whole opaque material (half of it diffuse) whenever the glass was not
+/// chosen turned such glass milky: ¼ of a white Lambertian. The control without transmission
+/// shows that this view does see a diffuse part where there is one.
+#[test]
+fn half_metal_glass_has_no_diffuse_part() {
+    let dir = TempDir::new("half-metal-glass");
+    let mean = |transmission: f32| {
+        let mut g = Gltf::new("scene_features");
+        let plane = g.material(&format!(
+            r#"{{"name": "probe", "doubleSided": true,
+                "pbrMetallicRoughness": {{"baseColorFactor": [1, 1, 1, 1], "metallicFactor": 0.5, "roughnessFactor": 0}},
+                "extensions": {{"KHR_materials_transmission": {{"transmissionFactor": {transmission}}}}}}}"#
+        ));
+        g.mesh_node(&[(&quad(Vec3::ZERO, Vec3::X * 10.0, Vec3::Z * 10.0, Vec3::Y), plane)], "");
+        g.light(r#"{"type": "directional", "intensity": 683}"#, Vec3::Y, Vec3::NEG_Y);
+        let scene = load(&g.write(&dir, &format!("probe{transmission}")));
+        let cam = Ortho::new(Vec3::new(0.0, 3.0, 3.0), Vec3::ZERO, Vec3::Y, 1.0, UVec2::splat(16));
+        let r = render(&scene, &cam.desc, cam.size, 64, 2);
+        let image = &r.images.image;
+        let sum: Vec3 =
+            (0..16).flat_map(|j| (0..16).map(move |i| (i, j))).map(|(i, j)| image.get(i, j)).sum();
+        sum / 256.0
+    };
+    let opaque = mean(0.0);
+    assert!(opaque.min_element() > 0.05, "the control sees no diffuse part: {opaque}");
+    let glass = mean(1.0);
+    assert!(
+        glass.max_element() < 1e-3,
+        "half-metal glass is milky: {glass} (the opaque half-metal: {opaque})"
+    );
+}
+
+/// `KHR_materials_unlit` as Blender imports it: the camera sees the base colour itself (an
+/// emission of strength 1 for camera rays), and every other ray passes through, so the unlit
+/// quad floating over a floor casts no shadow under a slanting sun and lights nothing. With one
+/// scattering vertex and a sun every sample is exact: the quad's pixels are its colour, every
+/// floor pixel ρ/π · E · cos 45°, the quad's shadow included.
+#[test]
+fn unlit_surfaces_show_their_colour_to_the_camera_alone() {
+    let dir = TempDir::new("unlit");
+    let mut g = Gltf::new("scene_features");
+    let floor = g.material(&lambert("floor", Vec3::splat(0.5)));
+    let unlit = g.material(
+        r#"{"name": "unlit", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.2, 0.1, 1]},
+            "emissiveFactor": [1, 1, 1], "extensions": {"KHR_materials_unlit": {}}}"#,
+    );
+    g.mesh_node(&[(&quad(Vec3::ZERO, Vec3::X * 10.0, Vec3::Z * 10.0, Vec3::Y), floor)], "");
+    g.mesh_node(&[(&quad(Vec3::Y, Vec3::X * 0.5, Vec3::Z * 0.5, Vec3::Y), unlit)], "");
+    g.light(r#"{"type": "directional", "intensity": 683}"#, Vec3::Y, Vec3::new(1.0, -1.0, 0.0));
+    let path = g.write(&dir, "unlit");
+    let text = std::fs::read_to_string(&path)
+        .unwrap()
+        .replace(r#""KHR_materials_ior"]"#, r#""KHR_materials_ior", "KHR_materials_unlit"]"#);
+    std::fs::write(&path, text).unwrap();
+    let scene = load(&path);
+    let cam = Ortho::new(Vec3::new(0.0, 5.0, 0.0), Vec3::ZERO, Vec3::NEG_Z, 2.0, UVec2::splat(32));
+    let r = render(&scene, &cam.desc, cam.size, 4, 1);
+    let floor_value = 0.5 / PI * FRAC_PI_4.cos();
+    let (mut quad_pixels, mut shadow_pixels) = (0, 0);
+    for j in 0..32 {
+        for i in 0..32 {
+            let p = cam.on_plane_y(Vec2::new(i as f32 + 0.5, j as f32 + 0.5), 0.0);
+            let got = r.images.image.get(i, j);
+            let want = if p.x.abs() < 0.5 && p.z.abs() < 0.5 {
+                quad_pixels += 1;
+                Vec3::new(0.8, 0.2, 0.1)
+            } else {
+                shadow_pixels += usize::from(p.x > 0.5 && p.x < 1.5 && p.z.abs() < 0.5);
+                Vec3::splat(floor_value)
+            };
+            assert!((got - want).abs().max_element() < 1e-5, "({i}, {j}) at {p}: {got} vs {want}");
+        }
+    }
+    assert_eq!((quad_pixels, shadow_pixels), (64, 64));
 }

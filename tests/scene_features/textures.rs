@@ -71,16 +71,17 @@ fn textured_quad_reads_each_texel_at_known_uvs() {
         assert!(close(colour, texel(q)), "quadrant {q}: {colour} vs {}", texel(q));
     }
 
-    // KHR_texture_transform, rotation π/2 and offset (0, 0.5): st = (−v, u + 0.5), wrapped. By
-    // hand: top-left (u, v < 0.5) → st.x ∈ (−0.5, 0) → column 1, st.y ∈ (0.5, 1) → row 1: the
-    // bottom-right texel; top-right → column 1, row 0 (st.y ∈ (1, 1.5)); bottom-left → column 0,
-    // row 1; bottom-right → column 0, row 0.
+    // KHR_texture_transform, rotation π/2 and offset (0, 0.5): st = (v, 0.5 − u), wrapped (the
+    // direction Blender and the sample model TextureTransformTest agree on, not the spec's
+    // listing read literally). By hand: top-left (u, v < 0.5) → st.x ∈ (0, 0.5) → column 0,
+    // st.y ∈ (0, 0.5) → row 0: texel 0; top-right → column 0, st.y ∈ (−0.5, 0) → row 1: texel
+    // 2; bottom-left → column 1, row 0: texel 1; bottom-right → column 1, row 1: texel 3.
     let info = format!(
         r#", "extensions": {{"KHR_texture_transform": {{"rotation": {}, "offset": [0, 0.5]}}}}"#,
         FRAC_PI_2
     );
     let turned = quadrant_colours(&dir, "turned", &info, None);
-    for (q, t) in [(0, 3), (1, 1), (2, 2), (3, 0)] {
+    for (q, t) in [(0, 0), (1, 2), (2, 1), (3, 3)] {
         assert!(
             close(turned[q], texel(t)),
             "transformed quadrant {q}: {} vs texel {t} {}",

@@ -264,6 +264,19 @@ def scene_transmission(folder):
     point("light", (1.5, -2.0, 3.0), 300.0)
 
 
+def scene_half_metal_glass(folder):
+    """Issue 39's probe: a smooth sphere, metallic 0.5 and transmission 1, over the checker floor:
+    half mirror, half glass, no diffuse part (Principled: metal m, glass (1 − m)·T). Lit by a
+    large panel, as smooth_metal is: the mirror's caustic of a point light would be fireflies."""
+    tex = checker(folder, "checker_warm", ((200, 120, 40), (40, 60, 90)))
+    room(material("floor", specular=0.0, roughness=1.0, base_texture=tex), grey(0.6), floor_uv=3.0)
+    probe = material("probe", base=(1.0, 1.0, 1.0), metallic=0.5, roughness=0.0, transmission=1.0)
+    add(sphere("probe", 0.7, (0.0, 0.0, 0.7)), probe)
+    panel = plane("panel", (3.0, 2.0, 1.0), (0.0, -1.0, 3.0), (math.pi, 0.0, 0.0))
+    add(panel, material("panel", base=(0.0, 0.0, 0.0), specular=0.0, emission=(1.0, 1.0, 1.0), strength=3.0,
+                        one_sided=True))
+
+
 SCENES = {name[len("scene_"):]: f for name, f in globals().items() if name.startswith("scene_")}
 
 

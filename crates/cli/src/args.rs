@@ -10,6 +10,33 @@ use std::str::FromStr;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Vec3Arg(pub Vec3);
 
+/// A `--sky` radiance: `grey` (Blender's default world), one number (a grey of that radiance)
+/// or `R,G,B`; finite and non-negative.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SkyArg(pub Vec3);
+
+impl FromStr for SkyArg {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        let v = match s.trim() {
+            "grey" | "gray" => Vec3::splat(tracer::job::SceneSetup::BLENDER_GREY_SKY),
+            t if t.contains(',') => t.parse::<Vec3Arg>()?.0,
+            t => {
+                let x = t.parse::<f32>().map_err(|_| {
+                    format!(
+                        "'{s}' is not a sky: give grey, a radiance (like 0.5) or R,G,B (like 0.4,0.5,0.6)"
+                    )
+                })?;
+                Vec3::splat(x)
+            }
+        };
+        if !(v.is_finite() && v.min_element() >= 0.0) {
+            return Err(format!("'{s}': a sky's radiance must be finite and non-negative"));
+        }
+        Ok(Self(v))
+    }
+}
+
 impl FromStr for Vec3Arg {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {
@@ -225,6 +252,12 @@ mod tests {
         assert_eq!("1, 2.5,-3".parse::<Vec3Arg>().unwrap().0, Vec3::new(1.0, 2.5, -3.0));
         assert!("1,2".parse::<Vec3Arg>().is_err());
         assert!("1,nan,2".parse::<Vec3Arg>().is_err());
+        assert_eq!("grey".parse::<SkyArg>().unwrap().0, Vec3::splat(0.050_876));
+        assert_eq!("0.5".parse::<SkyArg>().unwrap().0, Vec3::splat(0.5));
+        assert_eq!("0.1,0.2,0.3".parse::<SkyArg>().unwrap().0, Vec3::new(0.1, 0.2, 0.3));
+        for bad in ["-1", "blue", "inf", "0,-1,0"] {
+            assert!(bad.parse::<SkyArg>().is_err(), "{bad}");
+        }
         assert_eq!("640x360".parse::<Resolution>().unwrap().0, UVec2::new(640, 360));
         assert!("640".parse::<Resolution>().is_err());
         assert!("0x10".parse::<Resolution>().is_err());

@@ -33,6 +33,12 @@ pub struct MaterialTextures {
     pub emissive: Option<TextureRef>,
     /// Tangent-space normal map (linear) and its `scale`.
     pub normal: Option<(TextureRef, f32)>,
+    /// `KHR_materials_specular` `specularTexture`: linear, the specular factor in A.
+    pub specular: Option<TextureRef>,
+    /// `KHR_materials_specular` `specularColorTexture`: sRGB, the F0 tint in RGB.
+    pub specular_color: Option<TextureRef>,
+    /// `KHR_materials_transmission` `transmissionTexture`: linear, the factor in R.
+    pub transmission: Option<TextureRef>,
 }
 
 impl MaterialTextures {
@@ -42,6 +48,22 @@ impl MaterialTextures {
             && self.metallic_roughness.is_none()
             && self.emissive.is_none()
             && self.normal.is_none()
+            && self.specular.is_none()
+            && self.specular_color.is_none()
+            && self.transmission.is_none()
+    }
+
+    /// Every slot's reference (the normal map's without its scale).
+    pub fn all(&self) -> [Option<TextureRef>; 7] {
+        [
+            self.base_color,
+            self.metallic_roughness,
+            self.emissive,
+            self.normal.map(|n| n.0),
+            self.specular,
+            self.specular_color,
+            self.transmission,
+        ]
     }
 }
 
@@ -56,11 +78,11 @@ pub struct Material {
     pub metallic: f32,
     /// Perceptual roughness in [0, 1]; the GGX α is its square.
     pub roughness: f32,
-    /// `KHR_materials_specular` `specularFactor`: strength of the dielectric specular layer
-    /// (0 leaves a pure Lambertian dielectric).
+    /// `KHR_materials_specular` `specularFactor`: strength of the dielectric specular layer and
+    /// its grazing reflectance F90 (0 leaves a pure Lambertian dielectric).
     pub specular: f32,
     /// `KHR_materials_specular` `specularColorFactor`: tints the dielectric F0 (0.04 × this,
-    /// clamped to 1).
+    /// clamped to 1); black leaves the layer's grazing rim (F90 is the factor).
     pub specular_color: Vec3,
     /// Emitted radiance (glTF `emissiveFactor` × `emissiveStrength`; MTL `Ke`).
     pub emission: Vec3,
@@ -76,6 +98,10 @@ pub struct Material {
     pub transmission: f32,
     /// `KHR_materials_ior` index of refraction (glTF default 1.5).
     pub ior: f32,
+    /// `KHR_materials_unlit`, as Blender imports it: camera rays see the base colour (× texture
+    /// × vertex colour) as emitted radiance and end there; every other ray passes through, so
+    /// the surface neither lights nor shadows the scene.
+    pub unlit: bool,
     /// Texture slots.
     pub textures: MaterialTextures,
 }
@@ -97,6 +123,7 @@ impl Default for Material {
             alpha_mode: AlphaMode::Opaque,
             transmission: 0.0,
             ior: 1.5,
+            unlit: false,
             textures: MaterialTextures::default(),
         }
     }
@@ -116,14 +143,13 @@ impl Material {
     /// True when the material has a specular (GGX) lobe at all. (A metallic-roughness texture
     /// can only scale the metallic factor, so the factor decides.)
     pub fn has_specular(&self) -> bool {
-        self.metallic > 0.0
-            || (self.specular > 0.0 && self.specular_color.max_element() > 0.0)
-            || self.transmission > 0.0
+        self.metallic > 0.0 || self.specular > 0.0 || self.transmission > 0.0
     }
 
-    /// True when some of the surface may be missing (alpha mask or blend).
+    /// True when some of the surface may be missing for some rays (alpha mask or blend, or an
+    /// unlit surface, which only camera rays see).
     pub fn has_alpha(&self) -> bool {
-        !matches!(self.alpha_mode, AlphaMode::Opaque)
+        !matches!(self.alpha_mode, AlphaMode::Opaque) || self.unlit
     }
 
     /// Checks the factors are finite and in range; returns what is wrong.

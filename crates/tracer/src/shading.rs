@@ -32,6 +32,30 @@ pub struct ShadingPoint {
     pub emission: Vec3,
     /// Shading normal (unit, same side as the interpolated normal).
     pub normal: Vec3,
+    /// Dielectric specular weight (`KHR_materials_specular` factor × texture A).
+    pub specular: f32,
+    /// Dielectric specular tint (factor × texture RGB).
+    pub specular_color: Vec3,
+    /// Transmission (factor × texture R).
+    pub transmission: f32,
+}
+
+impl ShadingPoint {
+    /// The untextured material's values, with shading normal `normal`.
+    #[inline(always)]
+    pub fn of(material: &Material, normal: Vec3) -> Self {
+        Self {
+            base_color: material.base_color,
+            alpha: material.alpha,
+            metallic: material.metallic,
+            roughness: material.roughness,
+            emission: material.emission,
+            normal,
+            specular: material.specular,
+            specular_color: material.specular_color,
+            transmission: material.transmission,
+        }
+    }
 }
 
 /// Evaluates `material` at texture coordinates `uv` (sets 0, 1) with interpolated shading
@@ -63,6 +87,18 @@ pub fn evaluate(
         Some((r, scale)) => perturb(n, r.eval(textures, uv).truncate(), *scale, frame),
         None => n,
     };
+    let mut specular = material.specular;
+    if let Some(r) = &t.specular {
+        specular *= r.eval(textures, uv).w;
+    }
+    let mut specular_color = material.specular_color;
+    if let Some(r) = &t.specular_color {
+        specular_color *= r.eval(textures, uv).truncate();
+    }
+    let mut transmission = material.transmission;
+    if let Some(r) = &t.transmission {
+        transmission *= r.eval(textures, uv).x;
+    }
     ShadingPoint {
         base_color: base.truncate(),
         alpha: base.w.clamp(0.0, 1.0),
@@ -70,6 +106,9 @@ pub fn evaluate(
         roughness: roughness.clamp(0.0, 1.0),
         emission,
         normal,
+        specular: specular.clamp(0.0, 1.0),
+        specular_color: specular_color.max(Vec3::ZERO),
+        transmission: transmission.clamp(0.0, 1.0),
     }
 }
 
@@ -139,6 +178,30 @@ mod tests {
         assert_eq!(s.roughness, 0.4);
         assert_eq!(s.metallic, 0.25);
         assert_eq!(alpha(&material, &textures, [Vec2::ZERO; 2]), 0.4);
+    }
+
+    /// `KHR_materials_specular`'s and `KHR_materials_transmission`'s textures multiply their
+    /// factors: specular by A, its colour by RGB, transmission by R.
+    #[test]
+    fn specular_and_transmission_textures_multiply_their_factors() {
+        let textures = vec![texture(Vec4::new(0.5, 0.25, 0.75, 0.4))];
+        let material = Material {
+            specular: 0.5,
+            specular_color: Vec3::new(1.0, 2.0, 0.5),
+            transmission: 0.8,
+            textures: MaterialTextures {
+                specular: Some(TextureRef::new(0)),
+                specular_color: Some(TextureRef::new(0)),
+                transmission: Some(TextureRef::new(0)),
+                ..Default::default()
+            },
+            ..Material::default()
+        };
+        let frame = TangentFrame { tangent: None, dpdu: Vec3::X, dpdv: Vec3::Y };
+        let s = evaluate(&material, &textures, [Vec2::ZERO; 2], Vec3::Z, &frame);
+        assert_eq!((s.specular, s.transmission), (0.5 * 0.4, 0.8 * 0.5));
+        assert_eq!(s.specular_color, Vec3::new(0.5, 0.5, 0.375));
+        assert_eq!(ShadingPoint::of(&material, Vec3::Z).transmission, 0.8);
     }
 
     /// A flat normal-map texel (0.5, 0.5, 1) leaves the normal alone; one leaning towards +X

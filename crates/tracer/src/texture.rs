@@ -250,12 +250,15 @@ fn wrap_index(i: i64, n: i64, wrap: Wrap) -> usize {
 }
 
 /// `KHR_texture_transform` as an affine map: scale, then rotate, then offset — the extension's
-/// `T · R · S` matrix.
+/// `T · R · S` matrix, with R turning the way implementations and the sample model agree on:
+/// s' = cos·u + sin·v, t' = −sin·u + cos·v.
 pub fn uv_transform(offset: Vec2, rotation: f32, scale: Vec2) -> Affine2 {
     let (s, c) = rotation.sin_cos();
-    // The extension's GLSL `mat3(cos, sin, 0, -sin, cos, 0, …)` is column-major: columns
-    // (cos, sin) and (−sin, cos).
-    let r = glam::Mat2::from_cols(Vec2::new(c, s), Vec2::new(-s, c));
+    // Not the extension's GLSL listing read literally (`mat3(cos, sin, 0, -sin, cos, 0, …)`,
+    // column-major: columns (cos, sin), (−sin, cos)): that is the known erratum (KhronosGroup/glTF
+    // issue 1563) and turns the other way. Blender's importer (its Mapping node, v flipped),
+    // three.js and TextureTransformTest's "correct" marker all take columns (cos, −sin), (sin, cos).
+    let r = glam::Mat2::from_cols(Vec2::new(c, -s), Vec2::new(s, c));
     Affine2::from_mat2_translation(r * glam::Mat2::from_diagonal(scale), offset)
 }
 
@@ -363,12 +366,16 @@ mod tests {
         }
     }
 
-    /// The extension's GLSL, evaluated by hand: offset (0.5, 0), rotation π/2, scale 2 takes
-    /// (1, 0) → S → (2, 0) → R (columns (cos, sin), (−sin, cos)) → (0, 2) → T → (0.5, 2).
+    /// By hand, as Blender's importer builds it (glTF v runs down, Blender's up: a Mapping node
+    /// rotating counter-clockwise in Blender's UV space, offset (o.x + sy·sin, 1 − o.y − sy·cos)):
+    /// offset (0.5, 0), rotation π/2, scale 2 takes (1, 0) → S → (2, 0) → R → (0, −2) → T →
+    /// (0.5, −2), and (0, 1) → (0, 2) → (2, 0) → (2.5, 0).
     #[test]
     fn texture_transform_matches_the_extension() {
         let t = uv_transform(Vec2::new(0.5, 0.0), std::f32::consts::FRAC_PI_2, Vec2::splat(2.0));
         let p = t.transform_point2(Vec2::new(1.0, 0.0));
-        assert!((p - Vec2::new(0.5, 2.0)).length() < 1e-6, "{p}");
+        assert!((p - Vec2::new(0.5, -2.0)).length() < 1e-6, "{p}");
+        let q = t.transform_point2(Vec2::new(0.0, 1.0));
+        assert!((q - Vec2::new(2.5, 0.0)).length() < 1e-6, "{q}");
     }
 }

@@ -1,7 +1,7 @@
 //! Sampling and quality arguments (docs/design.md §3.3, §3.5), shared by every command that
 //! renders, and the library settings they make: a [`Quality`] and a [`SceneSetup`].
 
-use crate::args::{Resolution, Vec3Arg};
+use crate::args::{Resolution, SkyArg, Vec3Arg};
 use anyhow::bail;
 use clap::{Args, ValueEnum};
 use glam::UVec2;
@@ -49,6 +49,15 @@ pub struct QualityArgs {
     /// Radiance multiplier of the environment image.
     #[arg(long, default_value_t = 1.0)]
     pub env_strength: f32,
+    /// A uniform sky lighting the scene from every direction, importance-sampled like an
+    /// environment image: `grey` (Blender's default world, 0.0509), a radiance, or R,G,B. For
+    /// models that carry no light.
+    #[arg(long, value_name = "grey|RADIANCE|R,G,B", conflicts_with_all = ["env", "env_map"])]
+    pub sky: Option<SkyArg>,
+    /// Exposure in stops: the picture × 2^EV (every light scaled alike), for scenes in real-world
+    /// units (a sun of 2–3 W/m² renders near black) or too bright ones; recorded in the EXR header.
+    #[arg(long, value_name = "EV", default_value_t = 0.0, allow_negative_numbers = true)]
+    pub exposure: f32,
     /// Spot-light falloff, overriding the loader's choice (Blender's for Blender-made files).
     #[arg(long, value_enum)]
     pub spot_falloff: Option<FalloffArg>,
@@ -94,6 +103,8 @@ impl QualityArgs {
             env_map: None,
             env_rotation: 0.0,
             env_strength: 1.0,
+            sky: None,
+            exposure: 0.0,
             spot_falloff: None,
             aovs: false,
             adaptive: false,
@@ -151,8 +162,14 @@ impl QualityArgs {
                 self.split
             );
         }
+        let max = SceneSetup::MAX_EXPOSURE;
+        if !(self.exposure.is_finite() && self.exposure.abs() <= max) {
+            bail!("--exposure {}: must be a number of stops between -{max} and {max}", self.exposure);
+        }
         Ok(SceneSetup {
             fps,
+            sky: self.sky.map(|s| s.0),
+            exposure: self.exposure,
             environment: self.env.map(|v| v.0),
             environment_image: self.env_map.as_ref().map(|path| EnvironmentImage {
                 path: path.clone(),

@@ -157,7 +157,8 @@ impl Worker {
             let cache = &self.cameras[&cam.index];
             if cache.thumb.is_none() {
                 let (size, spp) = if cache.first { (first_size, FIRST_THUMB_SPP) } else { (coarse, 1) };
-                let images = self.render_view(&tracer, snap, cam, size, Self::quality(spp, denoise), &stale)?;
+                let images =
+                    self.render_view(&tracer, snap, cam, size, Self::quality(spp, denoise), &stale)?;
                 let raw = images.image.clone();
                 let shown = Self::shown(images, denoise)?;
                 self.send(snap, ImageKind::Thumb, Some(cam.index), spp, &srgb(&shown))?;

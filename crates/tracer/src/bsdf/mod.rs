@@ -22,7 +22,9 @@
 //! Surfaces are two-sided: the frame faces wo's side of the geometric normal, and only
 //! reflection on that side is non-zero (no light through an opaque surface via shading normals).
 //! Transmission (glass) is a separate delta interface, [`dielectric::Dielectric`], chosen by
-//! the integrator in proportion to the material's transmission factor.
+//! the integrator with probability (1 − metallic)·transmission; what is not glass is this BSDF
+//! with the metalness [`BsdfParams::opaque_metallic`] gives, so that metal, glass and the
+//! dielectric over diffuse keep the weights of Cycles' Principled BSDF.
 
 pub mod compensation;
 pub mod dielectric;
@@ -75,22 +77,34 @@ impl BsdfParams {
         self.metallic == 0.0 && self.specular == 0.0
     }
 
-    /// The untextured parameters of `material`.
+    /// The untextured parameters of `material`. The dielectric layer keeps its weight whatever
+    /// its tint: `KHR_materials_specular` scales F0 by the colour but not F90 (= the factor), so
+    /// a black `specularColorFactor` still leaves the grazing rim.
     pub fn of(material: &Material) -> Self {
         Self {
             base_color: material.base_color,
             metallic: material.metallic,
             roughness: material.roughness,
-            specular: if material.metallic > 0.0
-                || (material.specular > 0.0 && material.specular_color.max_element() > 0.0)
-            {
-                material.specular
-            } else {
-                0.0
-            },
+            specular: material.specular,
             specular_color: material.specular_color,
             ior: material.ior,
         }
+    }
+
+    /// The metalness of the opaque BSDF that stands for everything but the glass of a material
+    /// with metalness `metallic` and transmission `transmission`. Cycles' Principled BSDF weighs
+    /// metal m, glass (1 − m)·T and the dielectric over diffuse (1 − m)·(1 − T); the integrator
+    /// takes the glass with probability (1 − m)·T, so the opaque rest, taken with probability
+    /// q = 1 − (1 − m)·T, is metal m / q and dielectric (1 − m)·(1 − T) / q. With T = 0 (and
+    /// with m = 0) this is `metallic` exactly.
+    #[inline]
+    pub fn opaque_metallic(metallic: f32, transmission: f32) -> f32 {
+        if transmission == 0.0 {
+            return metallic;
+        }
+        let q = 1.0 - (1.0 - metallic) * transmission;
+        // q = 0 only for pure glass, whose opaque part is never taken.
+        if q > 0.0 { (metallic / q).min(1.0) } else { metallic }
     }
 }
 
@@ -487,6 +501,36 @@ mod tests {
             if roughness >= 0.5 {
                 assert!((is - uni).abs().max_element() < 0.03, "{is} vs {uni}");
             }
+        }
+    }
+
+    /// `KHR_materials_specular` scales F0 by the colour, not F90: a black `specularColorFactor`
+    /// over a black base reflects nothing head-on but keeps the grazing rim (F90 = the factor).
+    #[test]
+    fn black_specular_colour_keeps_the_grazing_rim() {
+        let m = Material { specular_color: Vec3::ZERO, ..material(0.0, 0.0, 0.3, 1.0) };
+        let at = |cos_o: f32| {
+            let wo = Vec3::new((1.0 - cos_o * cos_o).sqrt(), 0.0, cos_o);
+            albedo(&Bsdf::new(&m, Vec3::Z, Vec3::Z, wo), 1 << 14).0.x
+        };
+        let (head_on, grazing) = (at(1.0), at(0.05));
+        assert!(head_on < 1e-3, "head-on {head_on}");
+        assert!(grazing > 0.2 && grazing <= 1.0, "grazing {grazing}");
+    }
+
+    /// What is not glass keeps Cycles' proportions: metal m, dielectric over diffuse
+    /// (1 − m)(1 − T), once the glass's (1 − m)·T is taken out; a half-metal glass has no
+    /// diffuse part at all.
+    #[test]
+    fn the_opaque_rest_of_a_glass_keeps_cycles_proportions() {
+        assert_eq!(BsdfParams::opaque_metallic(0.5, 1.0), 1.0);
+        for (m, t) in [(0.3, 0.0), (0.0, 0.4), (0.0, 1.0), (1.0, 0.7)] {
+            assert_eq!(BsdfParams::opaque_metallic(m, t), m, "{m} {t}");
+        }
+        for (m, t) in [(0.2f32, 0.5f32), (0.7, 0.9), (0.5, 0.25)] {
+            let (glass, m_rest) = ((1.0 - m) * t, BsdfParams::opaque_metallic(m, t));
+            assert!(((1.0 - glass) * m_rest - m).abs() < 1e-6, "{m} {t}");
+            assert!(((1.0 - glass) * (1.0 - m_rest) - (1.0 - m) * (1.0 - t)).abs() < 1e-6, "{m} {t}");
         }
     }
 

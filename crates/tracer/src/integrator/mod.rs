@@ -135,7 +135,7 @@ pub struct PathTracer {
     /// which case traversal runs without any test callback.
     alpha_tested: Option<Vec<bool>>,
     /// Every material is an untextured, opaque Lambertian (no metallic, specular or
-    /// transmission weight), no triangle has vertex normals and every light is an emissive
+    /// transmission weight), no triangle has vertex normals or colours and every light is an emissive
     /// triangle, so renders may take the Lambert-only path (see [`PathTracer::lambert_only`]).
     lambert_only: bool,
     environment: Vec3,
@@ -170,6 +170,7 @@ impl PathTracer {
             });
         let lights = LightSampler::new(scene);
         let lambert_only = attributes.normals.is_none()
+            && attributes.colors.is_none()
             && lights.triangles_only()
             && scene.materials.iter().all(|m| {
                 m.textures.is_empty()
@@ -283,6 +284,11 @@ impl PathTracer {
             *first = found.as_ref().map_or(MISSED, |v| v.first_hit());
         }
         let Some(first_vertex) = found else { return out };
+        // An unlit surface shows its colour and nothing more (only camera rays see it).
+        if let (false, Some(colour)) = (LAMBERT, first_vertex.unlit()) {
+            out.radiance += colour;
+            return out;
+        }
         for branch in 0..split {
             let mut path = camera.with_sampler(sampler.branch(split, branch));
             let mut vertex = first_vertex;

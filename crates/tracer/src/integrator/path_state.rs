@@ -34,6 +34,13 @@ impl Vertex<'_> {
         FirstHit { albedo: self.sp.base_color, normal: n, depth: self.hit.t }
     }
 
+    /// What the camera sees of an unlit surface (its base colour, as emitted radiance), or
+    /// `None` for a lit one.
+    #[inline(always)]
+    pub(super) fn unlit(&self) -> Option<Vec3> {
+        self.material.unlit.then_some(self.sp.base_color)
+    }
+
     /// The opaque BSDF here (the Lambert lobe alone with `LAMBERT`).
     #[inline(always)]
     fn bsdf<const LAMBERT: bool>(&self) -> Bsdf {
@@ -43,9 +50,12 @@ impl Vertex<'_> {
         }
         let params = BsdfParams {
             base_color: sp.base_color,
-            metallic: sp.metallic,
+            // What is not glass: the metal and the dielectric over diffuse in Cycles' proportions.
+            metallic: BsdfParams::opaque_metallic(sp.metallic, sp.transmission),
             roughness: sp.roughness,
-            ..BsdfParams::of(self.material)
+            specular: sp.specular,
+            specular_color: sp.specular_color,
+            ior: self.material.ior,
         };
         // The hit's shading frame, unless a normal map moved the normal (then shadowed as Blender
         // does, docs/design.md §3.10).
@@ -164,7 +174,7 @@ impl PathState {
     ) -> Option<Vertex<'t>> {
         let ray = &self.ray;
         out.rays += 1;
-        let Some(hit) = tracer.closest_hit::<ALPHA>(ray, self.leaving) else {
+        let Some(hit) = tracer.closest_hit::<ALPHA>(ray, self.leaving, self.depth == 0) else {
             let env = tracer.lights.environment();
             let le = env.map_or(tracer.environment, |e| e.radiance(ray.direction));
             if le != Vec3::ZERO {
@@ -208,7 +218,7 @@ impl PathState {
         let depth = self.depth;
         let time = self.ray.time;
         let mut decisions = Decisions { sampler: &self.sampler, vertex: depth, drawn: None };
-        let glass_weight = v.material.transmission * (1.0 - v.sp.metallic);
+        let glass_weight = v.sp.transmission * (1.0 - v.sp.metallic);
         let glass = !LAMBERT
             && glass_weight > 0.0
             && (glass_weight >= 1.0 || decisions.get(Decisions::GLASS) < glass_weight);

@@ -19,6 +19,8 @@ pub(super) struct Attributes {
     uvs: Option<Vec<[Vec2; 3]>>,
     uvs1: Option<Vec<[Vec2; 3]>>,
     tangents: Option<Vec<[Vec4; 3]>>,
+    /// Vertex colours (glTF `COLOR_0`), multiplying base colour and alpha.
+    pub(super) colors: Option<Vec<[Vec4; 3]>>,
 }
 
 impl Attributes {
@@ -32,6 +34,7 @@ impl Attributes {
             uvs: gather(&mesh.triangles, &mesh.uvs),
             uvs1: gather(&mesh.triangles, &mesh.uvs1),
             tangents: gather(&mesh.triangles, &mesh.tangents),
+            colors: gather(&mesh.triangles, &mesh.colors),
         }
     }
 }
@@ -90,7 +93,8 @@ impl PathTracer {
         }
     }
 
-    /// The material evaluated at `si` (textures, normal map).
+    /// The material evaluated at `si` (textures, normal map, vertex colour). `UNTEXTURED`: the
+    /// scene has none of these (the Lambert-only path).
     #[inline(always)]
     pub(super) fn shade<const UNTEXTURED: bool>(
         &self,
@@ -98,20 +102,29 @@ impl PathTracer {
         si: &SurfaceInteraction,
         b: [f32; 3],
     ) -> ShadingPoint {
-        if UNTEXTURED || material.textures.is_empty() {
-            return ShadingPoint {
-                base_color: material.base_color,
-                alpha: material.alpha,
-                metallic: material.metallic,
-                roughness: material.roughness,
-                emission: material.emission,
-                normal: si.shading.z,
+        let mut sp = if UNTEXTURED || material.textures.is_empty() {
+            ShadingPoint::of(material, si.shading.z)
+        } else {
+            let uv = self.uvs(si.triangle, b);
+            let frame = if material.textures.normal.is_some() {
+                self.tangent_frame(si.triangle, b)
+            } else {
+                NO_FRAME
             };
+            shading::evaluate(material, &self.textures, uv, si.shading.z, &frame)
+        };
+        if !UNTEXTURED && let Some(c) = self.vertex_color(si.triangle, b) {
+            sp.base_color *= c.truncate();
+            sp.alpha = (sp.alpha * c.w).clamp(0.0, 1.0);
         }
-        let uv = self.uvs(si.triangle, b);
-        let frame =
-            if material.textures.normal.is_some() { self.tangent_frame(si.triangle, b) } else { NO_FRAME };
-        shading::evaluate(material, &self.textures, uv, si.shading.z, &frame)
+        sp
+    }
+
+    /// The interpolated vertex colour at barycentrics `b` of `triangle`, when the mesh has
+    /// colours.
+    #[inline]
+    fn vertex_color(&self, triangle: u32, b: [f32; 3]) -> Option<Vec4> {
+        self.attributes.colors.as_ref().map(|c| lerp3(c[triangle as usize], b))
     }
 
     /// Tangent data for normal mapping: vertex tangents if the mesh has them, and the
@@ -142,13 +155,20 @@ impl PathTracer {
     /// Whether the alpha test lets a ray through (false) or stops it (true) at barycentrics
     /// `b` of `triangle`. Masked surfaces compare alpha with the cut-off; blended ones are
     /// hit with probability alpha, decided by a hash of the ray and the point (deterministic).
+    /// Unlit surfaces stop camera rays alone (`camera`), as Blender's import makes them.
     #[inline]
-    fn alpha_accepts(&self, tested: &[bool], triangle: u32, b: [f32; 3], ray: &Ray) -> bool {
+    fn alpha_accepts(&self, tested: &[bool], triangle: u32, b: [f32; 3], ray: &Ray, camera: bool) -> bool {
         if !tested[triangle as usize] {
             return true;
         }
         let material = &self.materials[self.material_ids[triangle as usize] as usize];
-        let alpha = shading::alpha(material, &self.textures, self.uvs(triangle, b));
+        if material.unlit && !camera {
+            return false;
+        }
+        let mut alpha = shading::alpha(material, &self.textures, self.uvs(triangle, b));
+        if let Some(c) = self.vertex_color(triangle, b) {
+            alpha *= c.w;
+        }
         match material.alpha_mode {
             AlphaMode::Opaque => true,
             AlphaMode::Mask { cutoff } => alpha >= cutoff,
@@ -161,13 +181,19 @@ impl PathTracer {
         }
     }
 
-    /// The closest hit along `ray` (skipping `leaving`), alpha-tested with `ALPHA`.
+    /// The closest hit along `ray` (skipping `leaving`), alpha-tested with `ALPHA`; `camera`:
+    /// the ray comes from the camera (unlit surfaces stop it).
     #[inline]
-    pub(super) fn closest_hit<const ALPHA: bool>(&self, ray: &Ray, leaving: Leaving) -> Option<Hit> {
+    pub(super) fn closest_hit<const ALPHA: bool>(
+        &self,
+        ray: &Ray,
+        leaving: Leaving,
+        camera: bool,
+    ) -> Option<Hit> {
         match (ALPHA, &self.alpha_tested) {
-            (true, Some(tested)) => self
-                .bvh
-                .intersect_from(ray, f32::INFINITY, leaving, |t, b| self.alpha_accepts(tested, t, b, ray)),
+            (true, Some(tested)) => self.bvh.intersect_from(ray, f32::INFINITY, leaving, |t, b| {
+                self.alpha_accepts(tested, t, b, ray, camera)
+            }),
             _ => self.bvh.intersect_from(ray, f32::INFINITY, leaving, |_, _| true),
         }
     }
@@ -176,9 +202,9 @@ impl PathTracer {
     #[inline]
     pub(super) fn occluded<const ALPHA: bool>(&self, ray: &Ray, t_max: f32, leaving: Leaving) -> bool {
         match (ALPHA, &self.alpha_tested) {
-            (true, Some(tested)) => {
-                self.bvh.occluded_from(ray, t_max, leaving, |t, b| self.alpha_accepts(tested, t, b, ray))
-            }
+            (true, Some(tested)) => self
+                .bvh
+                .occluded_from(ray, t_max, leaving, |t, b| self.alpha_accepts(tested, t, b, ray, false)),
             _ => self.bvh.occluded_from(ray, t_max, leaving, |_, _| true),
         }
     }

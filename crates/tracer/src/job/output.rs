@@ -131,6 +131,12 @@ impl<'a> RenderInfo<'a> {
             if let Some(falloff) = setup.spot_falloff {
                 out.push(("mcctrace/spot_falloff", format!("{falloff:?}")));
             }
+            if let Some(c) = setup.sky {
+                out.push(("mcctrace/sky", format!("{},{},{}", c.x, c.y, c.z)));
+            }
+            if setup.exposure != 0.0 {
+                out.push(("mcctrace/exposure", setup.exposure.to_string()));
+            }
         }
         if self.crop > 0 {
             out.push(("mcctrace/crop", self.crop.to_string()));

@@ -1,6 +1,7 @@
-//! Scene set-up for rendering (docs/design.md §3.1): a scene file loaded with the environment and
-//! spot-light falloff the user chose in place of the file's, and an animated scene posed at
-//! frame / fps seconds (a static one is used as loaded, with no rebuild).
+//! Scene set-up for rendering (docs/design.md §3.1): a scene file loaded with the environment,
+//! sky, exposure and spot-light falloff the user chose in place of the file's, and an animated
+//! scene posed at frame / fps seconds (a static one is used as loaded, with no rebuild). A scene
+//! that nothing lights gets a warning saying how to light it.
 
 use crate::error::{Result, TracerError};
 use crate::scene::{EnvironmentMap, PunctualLight, Scene, SpotFalloff};
@@ -30,17 +31,36 @@ pub struct SceneSetup {
     pub environment_image: Option<EnvironmentImage>,
     /// A spot-light falloff replacing the loader's choice.
     pub spot_falloff: Option<SpotFalloff>,
+    /// A uniform sky of this radiance, importance-sampled as an environment light, replacing
+    /// the scene's environment (for models that carry no light).
+    pub sky: Option<Vec3>,
+    /// Exposure in stops: every light, emitter and environment is scaled by 2^EV, so the
+    /// picture is the unexposed one × 2^EV (light transport is linear). 0 changes nothing.
+    pub exposure: f32,
 }
 
 impl Default for SceneSetup {
     fn default() -> Self {
-        Self { fps: Self::DEFAULT_FPS, environment: None, environment_image: None, spot_falloff: None }
+        Self {
+            fps: Self::DEFAULT_FPS,
+            environment: None,
+            environment_image: None,
+            spot_falloff: None,
+            sky: None,
+            exposure: 0.0,
+        }
     }
 }
 
 impl SceneSetup {
     /// Frames per second unless told otherwise (film's rate).
     pub const DEFAULT_FPS: f32 = 24.0;
+
+    /// The largest exposure, in stops either way (2^64 is still a finite f32 factor).
+    pub const MAX_EXPOSURE: f32 = 64.0;
+
+    /// The radiance of Blender's default world: a uniform grey of 0.050876 (sRGB 0.25).
+    pub const BLENDER_GREY_SKY: f32 = 0.050_876;
 
     /// Loads the scene at `path` (at t = 0) with the overrides applied; the loader's warnings,
     /// and the environment image's, are in `Scene::warnings`.
@@ -55,6 +75,7 @@ impl SceneSetup {
     /// once, not per frame; its lights it rebuilds, so [`SceneSetup::pose`] applies the
     /// falloff again.
     pub fn apply(&self, scene: &mut Scene) -> Result<()> {
+        let scale = self.exposure_scale()?;
         if let Some(color) = self.environment {
             scene.environment.color = color;
         }
@@ -63,16 +84,62 @@ impl SceneSetup {
             scene.warnings.extend(map.warnings());
             scene.environment_map = Some(map);
         }
+        if let Some(radiance) = self.sky {
+            if !(radiance.is_finite() && radiance.min_element() >= 0.0) {
+                return Err(TracerError::Settings(format!(
+                    "sky radiance {radiance}: must be finite and non-negative"
+                )));
+            }
+            scene.environment.color = Vec3::ZERO;
+            scene.environment_map = Some(EnvironmentMap::uniform(radiance));
+        }
+        if scale != 1.0 {
+            for m in &mut scene.materials {
+                m.emission *= scale;
+            }
+            scene.environment.color *= scale;
+            if let Some(map) = &mut scene.environment_map {
+                map.strength *= scale;
+            }
+        }
         self.apply_lights(scene);
+        if !scene.has_light() {
+            scene.warnings.push(format!(
+                "{}: nothing in the scene gives light (no emissive surface, punctual light or environment), \
+                 so it renders black; light it with a sky (--sky grey), an environment image (--env-map FILE) \
+                 or a light in the file",
+                scene.path.display()
+            ));
+        }
         Ok(())
     }
 
-    /// Applies the spot-light falloff.
+    /// 2^exposure, or an error when that is not a usable factor.
+    fn exposure_scale(&self) -> Result<f32> {
+        let ev = self.exposure;
+        if !(ev.is_finite() && ev.abs() <= Self::MAX_EXPOSURE) {
+            return Err(TracerError::Settings(format!(
+                "exposure {ev}: must be a number of stops between -{max} and {max}",
+                max = Self::MAX_EXPOSURE
+            )));
+        }
+        Ok(ev.exp2())
+    }
+
+    /// Applies the spot-light falloff and the exposure to the punctual lights (which posing
+    /// rebuilds).
     fn apply_lights(&self, scene: &mut Scene) {
-        let Some(falloff) = self.spot_falloff else { return };
+        let scale = if self.exposure == 0.0 { 1.0 } else { self.exposure.exp2() };
         for light in &mut scene.lights {
-            if let PunctualLight::Spot { falloff: f, .. } = light {
-                *f = falloff;
+            match light {
+                PunctualLight::Spot { falloff: f, intensity, .. } => {
+                    if let Some(falloff) = self.spot_falloff {
+                        *f = falloff;
+                    }
+                    *intensity *= scale;
+                }
+                PunctualLight::Point { intensity, .. } => *intensity *= scale,
+                PunctualLight::Directional { irradiance, .. } => *irradiance *= scale,
             }
         }
     }
@@ -143,6 +210,58 @@ mod tests {
         let unchanged = SceneSetup::default();
         unchanged.apply(&mut scene).unwrap();
         assert_eq!(scene.lights[0], spot(SpotFalloff::Gltf));
+    }
+
+    /// A model with nothing that gives light renders black: loading it says so, naming the file
+    /// and the ways to light it; a sky lights it (as an importance-sampled environment).
+    #[test]
+    fn an_unlit_scene_is_named_and_a_sky_lights_it() {
+        let mut scene = Scene { path: "model.gltf".into(), ..Scene::default() };
+        SceneSetup::default().apply(&mut scene).unwrap();
+        let said = scene.warnings.join("\n");
+        assert!(said.contains("model.gltf: nothing in the scene gives light"), "{said}");
+        assert!(said.contains("--sky") && said.contains("--env-map"), "{said}");
+        let mut lit = Scene { path: "model.gltf".into(), ..Scene::default() };
+        SceneSetup { sky: Some(Vec3::splat(0.5)), ..SceneSetup::default() }.apply(&mut lit).unwrap();
+        assert!(lit.warnings.is_empty(), "{:?}", lit.warnings);
+        let map = lit.environment_map.as_ref().unwrap();
+        assert_eq!((map.texture.width, map.texture.height, map.strength), (2, 1, 1.0));
+        assert!(map.texture.texels.iter().all(|t| t == glam::Vec4::new(0.5, 0.5, 0.5, 1.0)));
+        let bad = SceneSetup { sky: Some(Vec3::new(0.1, -1.0, 0.1)), ..SceneSetup::default() };
+        assert!(bad.apply(&mut Scene::default()).unwrap_err().to_string().contains("sky radiance"));
+    }
+
+    /// Exposure scales every source of light by 2^EV, punctual lights again after posing;
+    /// out-of-range stops are refused.
+    #[test]
+    fn exposure_scales_every_light() {
+        let mut scene = Scene::default();
+        scene.lights.push(spot(SpotFalloff::Blender));
+        scene.lights.push(PunctualLight::Directional { direction: -Vec3::Y, irradiance: Vec3::splat(3.0) });
+        scene.materials.push(crate::material::Material {
+            emission: Vec3::new(1.0, 2.0, 4.0),
+            ..crate::material::Material::default()
+        });
+        scene.environment.color = Vec3::splat(0.25);
+        let setup = SceneSetup { exposure: 2.0, ..SceneSetup::default() };
+        setup.apply(&mut scene).unwrap();
+        assert_eq!(scene.materials[0].emission, Vec3::new(4.0, 8.0, 16.0));
+        assert_eq!(scene.environment.color, Vec3::ONE);
+        assert!(
+            matches!(scene.lights[0], PunctualLight::Spot { intensity, .. } if intensity == Vec3::splat(4.0))
+        );
+        assert!(
+            matches!(scene.lights[1], PunctualLight::Directional { irradiance, .. } if irradiance == Vec3::splat(12.0))
+        );
+        let sky = SceneSetup { sky: Some(Vec3::ONE), exposure: -1.0, ..SceneSetup::default() };
+        let mut dim = Scene::default();
+        sky.apply(&mut dim).unwrap();
+        assert_eq!(dim.environment_map.unwrap().strength, 0.5);
+        for exposure in [f32::NAN, 65.0, -100.0] {
+            let err =
+                SceneSetup { exposure, ..SceneSetup::default() }.apply(&mut Scene::default()).unwrap_err();
+            assert!(err.to_string().contains("exposure"), "{err}");
+        }
     }
 
     #[test]

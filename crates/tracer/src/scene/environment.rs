@@ -53,6 +53,14 @@ impl EnvironmentMap {
         Ok(Self { texture, rotation: rotation_radians, strength })
     }
 
+    /// A uniform sky of `radiance` (finite, non-negative) in every direction: a 2 × 1 image, so
+    /// that it is importance-sampled as a light like any environment image.
+    pub fn uniform(radiance: glam::Vec3) -> Self {
+        let texel = radiance.extend(1.0);
+        let texture = Texture::new(format!("uniform sky {radiance}"), 2, 1, vec![texel; 2]);
+        Self { texture, rotation: 0.0, strength: 1.0 }
+    }
+
     /// What is unusual about the map, for the user: a shape other than 2:1, or no light at all.
     pub fn warnings(&self) -> Vec<String> {
         let t = &self.texture;

@@ -17,6 +17,9 @@ pub struct Mesh {
     pub uvs1: Vec<Vec2>,
     /// Per-vertex tangents (xyz, w = ±1 bitangent sign, glTF `TANGENT`), or empty; zero = none.
     pub tangents: Vec<Vec4>,
+    /// Per-vertex colours (linear RGBA, glTF `COLOR_0`) multiplying the base colour and alpha,
+    /// or empty when no part has any; parts without are padded with white (no change).
+    pub colors: Vec<Vec4>,
     /// Vertex indices, three per triangle, counter-clockwise seen from the front.
     pub triangles: Vec<[u32; 3]>,
     /// Material index per triangle.
@@ -30,6 +33,8 @@ pub struct MeshExtras<'a> {
     pub uvs1: Option<&'a [Vec2]>,
     /// Tangents (xyz, w = bitangent sign), already in world space.
     pub tangents: Option<&'a [Vec4]>,
+    /// Vertex colours (linear RGBA).
+    pub colors: Option<&'a [Vec4]>,
 }
 
 /// One piece of geometry to add to a [`Mesh`], already in world space.
@@ -72,6 +77,11 @@ impl Mesh {
         {
             return Err(format!("{} tangents for {} vertices", tangents.len(), n));
         }
+        if let Some(colors) = extras.colors
+            && colors.len() != n
+        {
+            return Err(format!("{} vertex colours for {} vertices", colors.len(), n));
+        }
         if let Some(normals) = part.normals
             && normals.len() != n
         {
@@ -104,6 +114,7 @@ impl Mesh {
         Self::extend_attr(&mut self.uvs, had, part.uvs, n);
         Self::extend_attr(&mut self.uvs1, had, extras.uvs1, n);
         Self::extend_attr(&mut self.tangents, had, extras.tangents, n);
+        Self::extend_attr_with(&mut self.colors, had, extras.colors, n, Vec4::ONE);
 
         let tris = count / 3;
         self.triangles.reserve(tris);
@@ -120,14 +131,19 @@ impl Mesh {
     }
 
     fn extend_attr<T: Copy + Default>(dst: &mut Vec<T>, had: usize, src: Option<&[T]>, n: usize) {
+        Self::extend_attr_with(dst, had, src, n, T::default());
+    }
+
+    /// [`Mesh::extend_attr`] padding with `fill` (what "none" means for the attribute).
+    fn extend_attr_with<T: Copy>(dst: &mut Vec<T>, had: usize, src: Option<&[T]>, n: usize, fill: T) {
         match src {
             Some(values) => {
                 if dst.len() < had {
-                    dst.resize(had, T::default());
+                    dst.resize(had, fill);
                 }
                 dst.extend_from_slice(values);
             }
-            None if !dst.is_empty() => dst.resize(had + n, T::default()),
+            None if !dst.is_empty() => dst.resize(had + n, fill),
             None => {}
         }
     }
@@ -150,9 +166,11 @@ impl Mesh {
         if let Some((i, _)) = self.uvs.iter().enumerate().find(|(_, v)| !v.is_finite()) {
             return Err(format!("vertex {i} has non-finite texture coordinates"));
         }
-        for (what, len) in
-            [("second texture coordinates", self.uvs1.len()), ("tangents", self.tangents.len())]
-        {
+        for (what, len) in [
+            ("second texture coordinates", self.uvs1.len()),
+            ("tangents", self.tangents.len()),
+            ("vertex colours", self.colors.len()),
+        ] {
             if len != 0 && len != n {
                 return Err(format!("{len} {what} for {n} vertices"));
             }
@@ -162,6 +180,11 @@ impl Mesh {
         }
         if let Some((i, _)) = self.tangents.iter().enumerate().find(|(_, v)| !v.is_finite()) {
             return Err(format!("vertex {i} has a non-finite tangent"));
+        }
+        if let Some((i, c)) =
+            self.colors.iter().enumerate().find(|(_, c)| !c.is_finite() || c.min_element() < 0.0)
+        {
+            return Err(format!("vertex {i} has a non-finite or negative colour {c}"));
         }
         if self.material_ids.len() != self.triangles.len() {
             return Err(format!(

@@ -276,7 +276,7 @@ impl Scene {
         let texture_count = self.textures.len();
         for m in &self.materials {
             let t = &m.textures;
-            let refs = [t.base_color, t.metallic_roughness, t.emissive, t.normal.map(|n| n.0)];
+            let refs = t.all();
             if let Some(r) =
                 refs.iter().flatten().find(|r| r.texture as usize >= texture_count || r.uv_set > 1)
             {
@@ -326,6 +326,26 @@ impl Scene {
             }
         }
         Ok(())
+    }
+
+    /// True when something gives light: a punctual light, a surface of an emissive material,
+    /// a constant environment or an environment image that is not black. Without any, every
+    /// picture of the scene is black.
+    pub fn has_light(&self) -> bool {
+        let punctual = self.lights.iter().any(|l| match *l {
+            PunctualLight::Point { intensity, .. } | PunctualLight::Spot { intensity, .. } => {
+                intensity.max_element() > 0.0
+            }
+            PunctualLight::Directional { irradiance, .. } => irradiance.max_element() > 0.0,
+        });
+        let environment = self.environment.color.max_element() > 0.0
+            || self.environment_map.as_ref().is_some_and(|m| {
+                m.strength > 0.0 && m.texture.texels.iter().any(|t| t.truncate().max_element() > 0.0)
+            });
+        let emissive: Vec<bool> = self.materials.iter().map(Material::is_emissive).collect();
+        let surfaces = emissive.contains(&true)
+            && self.mesh.material_ids.iter().any(|&m| emissive.get(m as usize).copied().unwrap_or(false));
+        punctual || environment || surfaces
     }
 
     /// Axis-aligned bounds of all vertices (min, max); `None` for an empty scene.

@@ -102,6 +102,24 @@ pub(super) fn read_mat4(acc: &Accessor, buffers: &[Vec<u8>]) -> Result<Vec<glam:
         .collect())
 }
 
+/// Reads a `COLOR_n` accessor: `VEC3` or `VEC4` of floats or normalised unsigned bytes/shorts
+/// (glTF §3.7.2.1), as linear RGBA (alpha 1 for `VEC3`).
+pub(super) fn read_color(acc: &Accessor, buffers: &[Vec<u8>], semantic: &str) -> Result<Vec<Vec4>, String> {
+    let allowed = [(DataType::F32, false), (DataType::U8, true), (DataType::U16, true)];
+    let dims = if acc.dimensions() == Dimensions::Vec3 { Dimensions::Vec3 } else { Dimensions::Vec4 };
+    expect(acc, semantic, dims, &allowed)?;
+    let values = read(acc, buffers)?;
+    Ok(match dims {
+        Dimensions::Vec3 => {
+            values.chunks_exact(3).map(|c| Vec4::new(c[0] as f32, c[1] as f32, c[2] as f32, 1.0)).collect()
+        }
+        _ => values
+            .chunks_exact(4)
+            .map(|c| Vec4::new(c[0] as f32, c[1] as f32, c[2] as f32, c[3] as f32))
+            .collect(),
+    })
+}
+
 /// Reads an index accessor: `SCALAR` unsigned bytes, shorts or ints.
 pub(super) fn read_indices(acc: &Accessor, buffers: &[Vec<u8>]) -> Result<Vec<u32>, String> {
     let allowed = [(DataType::U8, false), (DataType::U16, false), (DataType::U32, false)];

@@ -1,12 +1,11 @@
 //! glTF materials to [`Material`]: the metallic-roughness factors and textures (base colour,
 //! metallic-roughness, emissive, normal with its `scale`), `alphaMode`/`alphaCutoff`,
 //! `KHR_texture_transform` on every texture reference, `KHR_materials_emissive_strength`,
-//! `KHR_materials_specular` (factors), `KHR_materials_transmission` (factor) and
-//! `KHR_materials_ior`.
+//! `KHR_materials_specular` and `KHR_materials_transmission` (factors and textures),
+//! `KHR_materials_ior` and `KHR_materials_unlit` (as Blender imports it).
 //!
 //! - Occlusion textures are ignored without a word: a path tracer computes occlusion itself.
-//! - `KHR_materials_specular` and `KHR_materials_transmission` textures are warned about and
-//!   ignored (their factors apply).
+//! - `KHR_materials_specular` and `KHR_materials_transmission` textures multiply their factors.
 //! - `KHR_materials_ior` also sets the dielectric F0 of the opaque lobes, as the extension
 //!   defines it: F0 = ((ior − 1)/(ior + 1))² × specular colour. The material model's F0 is
 //!   0.04 × `specular_color`, so the colour is scaled by F0(ior) / 0.04 (1 at the default 1.5).
@@ -104,36 +103,34 @@ pub(super) fn convert(
     let label = format!("material '{name}'");
 
     let mut slots = MaterialTextures::default();
-    if let Some(info) = pbr.base_color_texture() {
-        let user = format!("{label}, base colour texture");
-        slots.base_color = textures.reference(
-            &info.texture(),
-            info.tex_coord(),
-            transform_of(&info),
-            ColorSpace::Srgb,
-            &user,
-        );
-    }
-    if let Some(info) = pbr.metallic_roughness_texture() {
-        let user = format!("{label}, metallic-roughness texture");
-        slots.metallic_roughness = textures.reference(
-            &info.texture(),
-            info.tex_coord(),
-            transform_of(&info),
-            ColorSpace::Linear,
-            &user,
-        );
-    }
-    if let Some(info) = m.emissive_texture() {
-        let user = format!("{label}, emissive texture");
-        slots.emissive = textures.reference(
-            &info.texture(),
-            info.tex_coord(),
-            transform_of(&info),
-            ColorSpace::Srgb,
-            &user,
-        );
-    }
+    // A slot's reference from its texture info: the info's own coordinate set and transform.
+    let mut slot = |info: Option<gltf::texture::Info>, what: &str, space: ColorSpace| {
+        let info = info?;
+        let user = format!("{label}, {what}");
+        textures.reference(&info.texture(), info.tex_coord(), transform_of(&info), space, &user)
+    };
+    slots.base_color = slot(pbr.base_color_texture(), "base colour texture", ColorSpace::Srgb);
+    slots.metallic_roughness =
+        slot(pbr.metallic_roughness_texture(), "metallic-roughness texture", ColorSpace::Linear);
+    slots.emissive = slot(m.emissive_texture(), "emissive texture", ColorSpace::Srgb);
+    // KHR_materials_specular's and KHR_materials_transmission's textures multiply their
+    // factors (specular in A, its colour in sRGB RGB, transmission in R).
+    let transmission = m.transmission();
+    slots.specular = slot(
+        specular.as_ref().and_then(|s| s.specular_texture()),
+        "KHR_materials_specular specularTexture",
+        ColorSpace::Linear,
+    );
+    slots.specular_color = slot(
+        specular.as_ref().and_then(|s| s.specular_color_texture()),
+        "KHR_materials_specular specularColorTexture",
+        ColorSpace::Srgb,
+    );
+    slots.transmission = slot(
+        transmission.as_ref().and_then(|t| t.transmission_texture()),
+        "KHR_materials_transmission transmissionTexture",
+        ColorSpace::Linear,
+    );
     if let Some(normal) = m.normal_texture() {
         let user = format!("{label}, normal texture");
         let transform = match raw_transform(raw.and_then(|r| r.get("normalTexture"))) {
@@ -155,24 +152,6 @@ pub(super) fn convert(
             .map(|r| (r, scale));
     }
     // Occlusion: ignored on purpose (path tracing computes it).
-
-    let mut unused: Vec<&str> = Vec::new();
-    if specular.as_ref().is_some_and(|s| s.specular_texture().is_some()) {
-        unused.push("KHR_materials_specular specularTexture");
-    }
-    if specular.as_ref().is_some_and(|s| s.specular_color_texture().is_some()) {
-        unused.push("KHR_materials_specular specularColorTexture");
-    }
-    let transmission = m.transmission();
-    if transmission.as_ref().is_some_and(|t| t.transmission_texture().is_some()) {
-        unused.push("KHR_materials_transmission transmissionTexture");
-    }
-    if !unused.is_empty() {
-        textures.warn(format!(
-            "{label}: textures of these extensions are not supported (their factors apply): {}",
-            unused.join(", ")
-        ));
-    }
 
     let alpha_mode = match m.alpha_mode() {
         gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
@@ -202,16 +181,33 @@ pub(super) fn convert(
     // Exactly 1 at the default, so files without the extension keep their factors bit for bit.
     let f0_scale = if ior == 1.5 { 1.0 } else { ((ior - 1.0) / (ior + 1.0)).powi(2) / 0.04 };
     let transmission = transmission.map_or(0.0, |t| t.transmission_factor());
+    let (metallic, roughness) = (pbr.metallic_factor(), pbr.roughness_factor());
+    if transmission > 0.0 && metallic < 1.0 && roughness > 0.0 {
+        // The glass is a smooth interface: a frosted pane would come out clear without a word.
+        textures.warn(format!(
+            "{label}: rough transmission (roughnessFactor {roughness}, transmission {transmission}) is \
+             rendered as smooth glass; only the reflection off the opaque part is rough"
+        ));
+    }
 
+    // KHR_materials_unlit: Blender imports it as an emission of the base colour that camera
+    // rays alone see (a Light Path "Is Camera Ray" mix with a transparent BSDF); the emissive
+    // factors do not take part.
+    let unlit = raw.and_then(|r| r.get("extensions")).and_then(|e| e.get("KHR_materials_unlit")).is_some();
     Ok(Material {
         base_color: Vec3::new(r, g, b),
-        metallic: pbr.metallic_factor(),
-        roughness: pbr.roughness_factor(),
+        unlit,
+        metallic,
+        roughness,
         // Without the extension glTF's dielectric layer is the plain F0 = 0.04 one.
         specular: specular.as_ref().map_or(1.0, |s| s.specular_factor()),
         specular_color: specular.as_ref().map_or(Vec3::ONE, |s| Vec3::from(s.specular_color_factor()))
             * f0_scale,
-        emission: Vec3::from(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0),
+        emission: if unlit {
+            Vec3::ZERO
+        } else {
+            Vec3::from(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0)
+        },
         // A one-sided emitter must stay one-sided (docs/design.md §3.9: a two-sided Cornell light
         // is too bright), so emission follows `doubleSided`.
         emission_two_sided: m.double_sided(),

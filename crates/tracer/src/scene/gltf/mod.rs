@@ -60,6 +60,10 @@ const HANDLED_EXTENSIONS: &[&str] = &[
     "KHR_meshopt_compression",
     "EXT_texture_webp",
     "EXT_mesh_gpu_instancing",
+    // Metadata (authoring information, licences): nothing in it changes the picture.
+    "KHR_xmp",
+    "KHR_xmp_json_ld",
+    "KHR_materials_unlit",
 ];
 
 /// Loads a `.gltf` or `.glb` file (told apart by the GLB magic, not the name).
@@ -350,6 +354,12 @@ impl Loader<'_> {
             };
             let influences = self.influences(&prim, positions.len()).map_err(fail)?;
             let targets = self.targets(&prim).map_err(fail)?;
+            // Blender's importer multiplies base colour (and alpha, unless opaque) by COLOR_0
+            // whenever a primitive has it, as the specification says; the other sets it ignores.
+            let colors = match prim.get(&Semantic::Colors(0)) {
+                Some(a) => Some(accessor::read_color(&a, self.buffers, "COLOR_0").map_err(fail)?),
+                None => None,
+            };
             let mut indices = match prim.indices() {
                 Some(a) => accessor::read_indices(&a, self.buffers).map_err(fail)?,
                 None => {
@@ -376,6 +386,7 @@ impl Loader<'_> {
                 uvs,
                 uvs1,
                 tangents,
+                colors,
                 indices,
                 material,
                 influences,
@@ -481,7 +492,7 @@ impl Loader<'_> {
     fn check_texture_coordinates(&mut self, what: &str, material: u32, has: [bool; 2]) {
         let Some(m) = self.scene.materials.get(material as usize) else { return };
         let t = &m.textures;
-        let refs = [t.base_color, t.metallic_roughness, t.emissive, t.normal.map(|n| n.0)];
+        let refs = t.all();
         let used = |set: u32| refs.iter().flatten().any(|r| r.uv_set == set);
         let name = m.name.clone();
         if (used(0) || (used(1) && !has[1])) && !has[0] {

@@ -93,6 +93,8 @@ pub(in crate::scene) struct Primitive {
     pub uvs1: Option<Vec<Vec2>>,
     /// Tangents (xyz, w = bitangent sign).
     pub tangents: Option<Vec<Vec4>>,
+    /// Vertex colours (linear RGBA, `COLOR_0`).
+    pub colors: Option<Vec<Vec4>>,
     /// Three indices per triangle.
     pub indices: Vec<u32>,
     /// Material of every triangle.
@@ -380,7 +382,8 @@ impl<'a> Frame<'a> {
         };
         let extras = MeshExtras {
             uvs1: prim.uvs1.as_deref(),
-            tangents: prim.tangents.as_ref().map(|_| &s.tangents[..]),
+            tangents: attrs.tangents.map(|_| &s.tangents[..]),
+            colors: prim.colors.as_deref(),
         };
         mesh.push_with(part, extras)
     }
@@ -427,7 +430,7 @@ impl<'a> Frame<'a> {
             indices: Some(indices),
             material: prim.material,
         };
-        let extras = MeshExtras { uvs1: prim.uvs1.as_deref(), tangents };
+        let extras = MeshExtras { uvs1: prim.uvs1.as_deref(), tangents, colors: prim.colors.as_deref() };
         mesh.push_with(part, extras)
     }
 }
