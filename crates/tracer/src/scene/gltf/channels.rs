@@ -8,8 +8,8 @@ use crate::scene::rig::{Channel, Interpolation, Pose, Property, Rig};
 use glam::Vec4;
 use gltf::json::animation::{Interpolation as GltfInterpolation, Property as GltfProperty};
 use gltf::json::validation::Checked;
-use std::collections::HashMap;
 use std::collections::hash_map::Entry;
+use std::collections::{BTreeMap, HashMap};
 
 fn animation_label(index: usize, name: Option<&str>) -> String {
     match name {
@@ -64,11 +64,16 @@ pub(super) fn read(
 ) -> Result<(Vec<Channel>, Vec<String>), String> {
     let mut channels = Vec::new();
     let mut warnings = Vec::new();
-    // Which channel animates each (rig node, property) first.
-    let mut owner: HashMap<(usize, Property), String> = HashMap::new();
+    // Which channel animates each (rig node, property) first: its animation and its label.
+    let mut owner: HashMap<(usize, Property), (usize, String)> = HashMap::new();
+    // Channels ignored because an earlier animation animates the same thing, by (animation,
+    // earlier animation): one line per pair of clips, not one per channel.
+    let mut overlaps: BTreeMap<(usize, usize), Vec<String>> = BTreeMap::new();
+    let mut labels = Vec::new();
     let mut matrix_warned = vec![false; rig.nodes.len()];
     for (a, anim) in doc.as_json().animations.iter().enumerate() {
         let name = animation_label(a, anim.name.as_deref());
+        labels.push(name.clone());
         for (c, json) in anim.channels.iter().enumerate() {
             let node = json.target.node.value();
             let node_name = doc.nodes().nth(node).map_or_else(|| format!("node {node}"), |n| node_label(&n));
@@ -132,7 +137,7 @@ pub(super) fn read(
                         Channel::new(target, Property::Weights(group), interpolation, times.clone(), values)
                             .map_err(fail)?;
                     if let Entry::Vacant(slot) = owner.entry((target, channel.property)) {
-                        slot.insert(format!("{name} channel {c}"));
+                        slot.insert((a, format!("{name} channel {c}")));
                         channels.push(channel);
                     } else if g == 0 {
                         warnings
@@ -153,11 +158,13 @@ pub(super) fn read(
             let Some(target) = target else { continue };
             match owner.entry((target, property)) {
                 Entry::Occupied(first) => {
-                    warnings.push(format!("{what}: {} already animates this; ignored", first.get()));
+                    let (first_a, first_label) = first.get();
+                    let line = format!("{what}: {first_label} already animates this; ignored");
+                    overlaps.entry((a, *first_a)).or_default().push(line);
                     continue;
                 }
                 Entry::Vacant(slot) => {
-                    slot.insert(format!("{name} channel {c}"));
+                    slot.insert((a, format!("{name} channel {c}")));
                 }
             }
             if matches!(rig.nodes.get(target).map(|n| n.rest), Some(Pose::Matrix(_)))
@@ -170,6 +177,19 @@ pub(super) fn read(
                 ));
             }
             channels.push(channel);
+        }
+    }
+    for ((a, first), mut lines) in overlaps {
+        if lines.len() == 1 {
+            warnings.append(&mut lines);
+        } else {
+            warnings.push(format!(
+                "{}: its {} channels animate what {} already animates; ignored (a file's animations \
+                 all play at once, from t = 0: export the clip you want on its own)",
+                labels[a],
+                lines.len(),
+                labels[first]
+            ));
         }
     }
     Ok((channels, warnings))
