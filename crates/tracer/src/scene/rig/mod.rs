@@ -323,10 +323,7 @@ impl<'a> Frame<'a> {
     fn new(world: &'a Affine3A) -> Self {
         let m = Mat3::from(world.matrix3);
         let det = m.determinant();
-        let cofactor =
-            Mat3::from_cols(m.y_axis.cross(m.z_axis), m.z_axis.cross(m.x_axis), m.x_axis.cross(m.y_axis))
-                * det.signum();
-        Self { world, linear: m, cofactor, mirrored: det < 0.0 }
+        Self { world, linear: m, cofactor: skin::normal_matrix(m), mirrored: det < 0.0 }
     }
 
     /// Appends skinned `prim` to `mesh`: each vertex moved by its joints' blended matrix; the

@@ -20,6 +20,9 @@ pub(in crate::scene) struct Morphed {
     pub positions: Vec<Vec3>,
     pub normals: Vec<Vec3>,
     pub tangents: Vec<Vec4>,
+    /// Scratch: the base tangents' xyz and their displaced values, reused across primitives.
+    tangent_base: Vec<Vec3>,
+    tangent_moved: Vec<Vec3>,
 }
 
 /// `base` plus Σ wᵢ·Δᵢ over the targets that displace it, into `out`; false (and `out`
@@ -62,30 +65,24 @@ impl Morphed {
             targets.iter().enumerate().map(|(i, t)| (w(i), t.positions.as_ref())),
             &mut self.positions,
         )?;
+        // Displaced normals are no longer unit length; the frame transform renormalises.
         let n = match normals {
-            Some(base) => {
-                let moved = displace(
-                    base,
-                    targets.iter().enumerate().map(|(i, t)| (w(i), t.normals.as_ref())),
-                    &mut self.normals,
-                )?;
-                // Displaced normals are no longer unit length; the frame transform renormalises.
-                moved
-            }
+            Some(base) => displace(
+                base,
+                targets.iter().enumerate().map(|(i, t)| (w(i), t.normals.as_ref())),
+                &mut self.normals,
+            )?,
             None => false,
         };
         let t = match tangents {
             Some(base) => {
-                let xyz: Vec<Vec3> = base.iter().map(|t| t.truncate()).collect();
-                let mut out = Vec::new();
-                let moved = displace(
-                    &xyz,
-                    targets.iter().enumerate().map(|(i, t)| (w(i), t.tangents.as_ref())),
-                    &mut out,
-                )?;
+                self.tangent_base.clear();
+                self.tangent_base.extend(base.iter().map(|t| t.truncate()));
+                let deltas = targets.iter().enumerate().map(|(i, t)| (w(i), t.tangents.as_ref()));
+                let moved = displace(&self.tangent_base, deltas, &mut self.tangent_moved)?;
                 if moved {
                     self.tangents.clear();
-                    self.tangents.extend(out.iter().zip(base).map(|(v, b)| v.extend(b.w)));
+                    self.tangents.extend(self.tangent_moved.iter().zip(base).map(|(v, b)| v.extend(b.w)));
                 }
                 moved
             }
