@@ -89,19 +89,30 @@ async fn session(rounds: usize) {
     let state = client.request(json!({"type": "camera_duplicate", "index": 1})).await;
     let fourth = state["cameras"][3].clone();
     let [w, h] = RES;
-    // A stroke: a 40-pixel-wide band of camera k, moving right each round.
-    let mut stroke_ms = Vec::new();
-    for round in 0..rounds + 1 {
-        let (x, k) = (10 + 45 * (round as u32 % 10), 1 + round as u8 % 4);
-        let t = Instant::now();
-        let state = client.paint([x, 0, 40, h], &vec![k; (40 * h) as usize]).await;
-        client.preview(state["seq"].as_u64().unwrap(), 1).await;
-        if round > 0 {
-            stroke_ms.push(t.elapsed().as_secs_f64() * 1e3);
+    // A stroke: a 40-pixel-wide band of camera k, moving right each round; the preview shown
+    // denoised (the page's default, when the denoiser is installed), then raw.
+    let denoiser = state["denoiser"].as_str().map(str::to_owned);
+    for denoise in [true, false] {
+        if denoise && denoiser.is_none() {
+            println!("stroke timings denoised: skipped (no denoiser installed)");
+            continue;
         }
-        tokio::time::sleep(Duration::from_millis(300)).await;
+        client.request(json!({"type": "denoise", "on": denoise})).await;
+        let mut stroke_ms = Vec::new();
+        for round in 0..rounds + 1 {
+            let (x, k) = (10 + 45 * (round as u32 % 10), 1 + round as u8 % 4);
+            let t = Instant::now();
+            let state = client.paint([x, 0, 40, h], &vec![k; (40 * h) as usize]).await;
+            client.preview(state["seq"].as_u64().unwrap(), 1).await;
+            if round > 0 {
+                stroke_ms.push(t.elapsed().as_secs_f64() * 1e3);
+            }
+            tokio::time::sleep(Duration::from_millis(300)).await;
+        }
+        let shown = if denoise { "denoised" } else { "raw" };
+        summary(&format!("stroke -> first full-frame preview (480x270, 4 cameras, {shown})"), stroke_ms);
     }
-    summary("stroke -> first full-frame preview (480x270, 4 cameras)", stroke_ms);
+    client.request(json!({"type": "denoise", "on": true})).await;
     if std::env::args().any(|a| a == "strokes") {
         drop(running);
         let _ = std::fs::remove_dir_all(&dir);
