@@ -333,9 +333,9 @@ mod tests {
                 _ => unreachable!(),
             })
         };
-        assert_eq!(denoise("mcctrace render s.gltf"), Ok(None));
-        assert_eq!(denoise("mcctrace render --denoise s.gltf"), Ok(Some(Quality::DEFAULT)));
-        assert_eq!(denoise("mcctrace render s.gltf --denoise=high"), Ok(Some(Quality::High)));
+        assert_eq!(denoise("mcctrace render s.gltf --out o.exr"), Ok(None));
+        assert_eq!(denoise("mcctrace render --denoise s.gltf --out o.exr"), Ok(Some(Quality::DEFAULT)));
+        assert_eq!(denoise("mcctrace render s.gltf --out o.exr --denoise=high"), Ok(Some(Quality::High)));
         assert_eq!(denoise("mcctrace demo --denoise=balanced"), Ok(Some(Quality::Balanced)));
         assert_eq!(denoise("mcctrace demo --denoise"), Ok(Some(Quality::DEFAULT)));
         assert_eq!(
@@ -346,7 +346,7 @@ mod tests {
             denoise("mcctrace animate s.gltf --lens-dir d --frames 0..=1 --out o --denoise=high"),
             Ok(Some(Quality::High))
         );
-        let err = denoise("mcctrace render s.gltf --denoise=medium").unwrap_err();
+        let err = denoise("mcctrace render s.gltf --out o.exr --denoise=medium").unwrap_err();
         assert!(
             err.contains("--denoise")
                 && err.contains("'medium' is not a denoising quality: give one of fast, balanced, high"),
