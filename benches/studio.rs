@@ -79,7 +79,48 @@ fn remap_timing(rounds: usize) {
     }
 }
 
+/// Stroke → first full-frame preview, `rounds` times (a 40-pixel-wide band of camera k, moving
+/// right each round), in a session of its own whose preview is shown denoised or raw from the
+/// start; `None` when denoising is asked for and the denoiser is not installed.
+async fn strokes(rounds: usize, denoise: bool) -> Option<Vec<f64>> {
+    let dir = std::env::temp_dir().join(format!("mcctrace-studio-bench-{}-{denoise}", std::process::id()));
+    let config = studio::Config { res: Some(RES), ..studio::Config::new(Some(cafe()), dir.clone()) };
+    let running = studio::serve(config).expect("the studio starts");
+    let mut client = Client::connect(&running).await;
+    let state = client.request(json!({"type": "denoise", "on": denoise})).await;
+    if denoise && state["denoiser"].is_null() {
+        return None;
+    }
+    client.request(json!({"type": "camera_duplicate", "index": 1})).await;
+    let h = RES[1];
+    let mut stroke_ms = Vec::new();
+    for round in 0..rounds + 1 {
+        let (x, k) = (10 + 45 * (round as u32 % 10), 1 + round as u8 % 4);
+        let t = Instant::now();
+        let state = client.paint([x, 0, 40, h], &vec![k; (40 * h) as usize]).await;
+        client.preview(state["seq"].as_u64().unwrap(), 1).await;
+        if round > 0 {
+            stroke_ms.push(t.elapsed().as_secs_f64() * 1e3);
+        }
+        tokio::time::sleep(Duration::from_millis(300)).await;
+    }
+    drop(running);
+    let _ = std::fs::remove_dir_all(&dir);
+    Some(stroke_ms)
+}
+
 async fn session(rounds: usize) {
+    for denoise in [true, false] {
+        let shown = if denoise { "denoised" } else { "raw" };
+        let what = format!("stroke -> first full-frame preview (480x270, 4 cameras, {shown})");
+        match strokes(rounds, denoise).await {
+            Some(ms) => summary(&what, ms),
+            None => println!("{what}: skipped (no denoiser installed)"),
+        }
+    }
+    if std::env::args().any(|a| a == "strokes") {
+        return;
+    }
     let dir = std::env::temp_dir().join(format!("mcctrace-studio-bench-{}", std::process::id()));
     let config = studio::Config { res: Some(RES), ..studio::Config::new(Some(cafe()), dir.clone()) };
     let running = studio::serve(config).expect("the studio starts");
@@ -89,35 +130,6 @@ async fn session(rounds: usize) {
     let state = client.request(json!({"type": "camera_duplicate", "index": 1})).await;
     let fourth = state["cameras"][3].clone();
     let [w, h] = RES;
-    // A stroke: a 40-pixel-wide band of camera k, moving right each round; the preview shown
-    // denoised (the page's default, when the denoiser is installed), then raw.
-    let denoiser = state["denoiser"].as_str().map(str::to_owned);
-    for denoise in [true, false] {
-        if denoise && denoiser.is_none() {
-            println!("stroke timings denoised: skipped (no denoiser installed)");
-            continue;
-        }
-        client.request(json!({"type": "denoise", "on": denoise})).await;
-        let mut stroke_ms = Vec::new();
-        for round in 0..rounds + 1 {
-            let (x, k) = (10 + 45 * (round as u32 % 10), 1 + round as u8 % 4);
-            let t = Instant::now();
-            let state = client.paint([x, 0, 40, h], &vec![k; (40 * h) as usize]).await;
-            client.preview(state["seq"].as_u64().unwrap(), 1).await;
-            if round > 0 {
-                stroke_ms.push(t.elapsed().as_secs_f64() * 1e3);
-            }
-            tokio::time::sleep(Duration::from_millis(300)).await;
-        }
-        let shown = if denoise { "denoised" } else { "raw" };
-        summary(&format!("stroke -> first full-frame preview (480x270, 4 cameras, {shown})"), stroke_ms);
-    }
-    client.request(json!({"type": "denoise", "on": true})).await;
-    if std::env::args().any(|a| a == "strokes") {
-        drop(running);
-        let _ = std::fs::remove_dir_all(&dir);
-        return;
-    }
     let mut move_ms = Vec::new();
     for round in 0..rounds {
         let eye = fourth["eye"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect::<Vec<_>>();
