@@ -79,7 +79,7 @@ pub enum Quality {
 
 impl Quality {
     /// What a plain `--denoise` gives, as Cycles' final renders: the best. Fast meets the 2 s
-    /// of a 1920×1080 final on 2 cores but leaves 1.2–1.55× high's relMSE, worth 1.5–2× the
+    /// of a 1920×1080 final on 2 cores but leaves 1.2–1.55× high's relMSE, worth 1.4–2.4× the
     /// samples, which costs more than high's few extra seconds (docs/performance.md §1.7).
     pub const DEFAULT: Self = Self::High;
 
