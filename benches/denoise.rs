@@ -1,38 +1,83 @@
-//! Denoising speed and what it buys (issue 44; docs/performance.md, "Denoising").
+//! Denoising speed and what it buys (issue 44; docs/performance.md §1.7, "Denoising").
 //!
-//! `cargo bench --bench denoise` prints one table: the café's `wide` view rendered once at 1 spp
-//! with albedo and normal, then denoised with Intel Open Image Denoise (the library the README's
-//! one command installs, or `MCCTRACE_OIDN`): a 1920×1080 final (auxiliaries prefiltered, high
-//! quality) and the studio's 480×270 preview (auxiliaries as they are, balanced quality), the
-//! first call (device start-up) apart from the median of the rest. Then relMSE against a
-//! 1024-spp reference of the café's `wide` at 240×135, raw and denoised, at 16, 64 and 256 spp,
-//! with the render and denoise seconds (`spp,seconds_raw,rel_mse_raw,seconds_denoised,
-//! rel_mse_denoised` rows), for the comparison with Cycles + OIDN (benches/peers/cycles/
-//! `render.py --denoise --reference target/denoise-bench/cafe-wide-240x135-ref.exr`, the
-//! reference this writes).
+//! `cargo bench -p mcctrace-suite --bench denoise` prints three tables, each a part of
+//! `DENOISE_BENCH_PARTS` (comma-separated; all three by default):
 //!
-//! Targets: 1920×1080 with auxiliaries ≤ 2 s on 2 cores; the 480×270 preview ≤ 40 ms.
-//! `DENOISE_BENCH_QUICK=1` skips the convergence part; `DENOISE_BENCH_RUNS=N` sets the timed
-//! calls after the first (4). Wall times stretch with the machine's load, so the table also gives
-//! each call's CPU seconds and half of them (two cores): the idle machine's wall time.
+//! - `timing`: the café's `wide` rendered at 1 spp with albedo and normal, denoised with Intel Open
+//!   Image Denoise (the library the README's one command installs, or `MCCTRACE_OIDN`) at 480×270
+//!   (the studio's preview) and 1920×1080 (a final), in each quality and guide the project uses:
+//!   the first call apart from the median of the rest (`DENOISE_BENCH_RUNS`, 3), wall and CPU
+//!   seconds. Targets: 1920×1080 with auxiliaries ≤ 2 s on 2 cores; the 480×270 preview ≤ 40 ms.
+//! - `quality`: relMSE against 1024-spp references (cached in `target/denoise-bench/`) of the café's
+//!   `wide` at 240×135, the Cornell box at 128² and the Cornell box through a thin lens (depth of
+//!   field), raw and denoised in every quality × guide, at 1, 4, 16 and 64 spp: what
+//!   `Settings::for_final` and the default quality are chosen from.
+//! - `convergence`: the café at 240×135, raw and denoised the way `render --denoise` does, at 16,
+//!   64 and 256 spp (`spp,seconds_raw,rel_mse_raw,seconds_denoised,rel_mse_denoised`), for the
+//!   comparison with Cycles + OIDN (benches/peers/cycles/`render.py --denoise --reference
+//!   target/denoise-bench/cafe-wide-240x135-ref.exr`, the reference this writes).
+//!
+//! - `cycles` (not in the default list): scores the renders of `benches/peers/cycles/denoise.sh`
+//!   (`DENOISE_BENCH_CYCLES`, default `target/peers/cycles/denoise`): each renderer's denoised
+//!   café against its own 1024-spp reference, time × relMSE and mcctrace's over Cycles'.
+//!
+//! Wall times stretch with the machine's load, so the timing table also gives each call's CPU
+//! seconds and half of them (two cores): about the idle machine's wall time.
 
 use glam::UVec2;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
+use tracer::camera::{CameraDesc, Projection};
 use tracer::compare::rel_mse;
-use tracer::denoise::{Aux, Denoiser, Mode};
+use tracer::denoise::{Aux, Denoiser, Guide, Quality, Settings};
 use tracer::film::FilmImages;
+use tracer::image::RgbImage;
 use tracer::integrator::{IntegratorConfig, PathTracer};
 use tracer::lens::LensChain;
 use tracer::render::{NoProgress, RenderSettings, render};
 use tracer::scene::{CameraSelector, Scene};
 
-fn render_wide(tracer: &PathTracer, scene: &Scene, size: UVec2, spp: u32, seed: u32) -> (FilmImages, f64) {
-    let camera = scene.camera(&CameraSelector::Name("wide".into())).expect("café camera 'wide'");
-    let built = camera.build(size).expect("build the camera");
-    let settings = RenderSettings { aovs: true, seed, ..RenderSettings::still(spp) };
-    let start = Instant::now();
-    let r = render(tracer, built.as_ref(), &mut LensChain::new(), &settings, &NoProgress).expect("render");
-    (r.images, start.elapsed().as_secs_f64())
+/// A scene prepared for tracing and the camera to render it through.
+struct Shot {
+    name: &'static str,
+    tracer: PathTracer,
+    camera: CameraDesc,
+}
+
+impl Shot {
+    fn new(name: &'static str, path: &Path, camera: &str, config: IntegratorConfig) -> Self {
+        let scene = Scene::load(path).unwrap_or_else(|e| panic!("load {}: {e}", path.display()));
+        let camera = scene.camera(&CameraSelector::Name(camera.into())).expect("camera").clone();
+        let tracer = PathTracer::new(&scene, config).expect("prepare the scene");
+        Self { name, tracer, camera }
+    }
+
+    fn render(&self, size: UVec2, spp: u32, seed: u32) -> (FilmImages, f64) {
+        let built = self.camera.build(size).expect("build the camera");
+        let settings = RenderSettings { aovs: true, seed, ..RenderSettings::still(spp) };
+        let start = Instant::now();
+        let r = render(&self.tracer, built.as_ref(), &mut LensChain::new(), &settings, &NoProgress)
+            .expect("render");
+        (r.images, start.elapsed().as_secs_f64())
+    }
+
+    /// The 1024-spp reference at `size`, read from `target/denoise-bench/` when rendered before.
+    fn reference(&self, dir: &Path, size: UVec2) -> RgbImage {
+        let path: PathBuf = dir.join(format!("{}-{}x{}-ref.exr", self.name, size.x, size.y));
+        if let Ok(image) = tracer::image_io::read_exr_rgb(&path) {
+            return image;
+        }
+        let (reference, seconds) = self.render(size, 1024, 1);
+        tracer::image_io::write_exr(&path, &reference.image, &[], &[]).expect("write the reference");
+        println!(
+            "reference: {} {}×{} at 1024 spp ({seconds:.1} s) -> {}",
+            self.name,
+            size.x,
+            size.y,
+            path.display()
+        );
+        reference.image
+    }
 }
 
 /// This process's CPU seconds so far (user + system, from /proc/self/stat at 100 ticks a second):
@@ -45,12 +90,15 @@ fn cpu_seconds() -> f64 {
     (ticks(11) + ticks(12)) / 100.0
 }
 
+fn aux(images: &FilmImages) -> Aux<'_> {
+    Aux { albedo: &images.albedo, normal: &images.normal }
+}
+
 /// Wall seconds of the first call, and the median of `runs` more, in wall and CPU seconds.
-fn time(d: &Denoiser, images: &FilmImages, mode: Mode, runs: usize) -> (f64, f64, f64) {
-    let aux = Aux { albedo: &images.albedo, normal: &images.normal };
+fn time(d: &Denoiser, images: &FilmImages, settings: Settings, runs: usize) -> (f64, f64, f64) {
     let once = || {
         let (start, cpu) = (Instant::now(), cpu_seconds());
-        let out = d.denoise(&images.image, Some(aux), mode).expect("denoise");
+        let out = d.denoise(&images.image, Some(aux(images)), settings).expect("denoise");
         assert!(out.pixels.iter().all(|p| p.is_finite()));
         (start.elapsed().as_secs_f64(), cpu_seconds() - cpu)
     };
@@ -64,53 +112,174 @@ fn time(d: &Denoiser, images: &FilmImages, mode: Mode, runs: usize) -> (f64, f64
     (first, median(|r| r.0), median(|r| r.1))
 }
 
+fn load() -> String {
+    std::fs::read_to_string("/proc/loadavg").unwrap_or_default().trim().to_owned()
+}
+
+const fn s(quality: Quality, guide: Guide) -> Settings {
+    Settings { quality, guide }
+}
+
+fn timing(d: &Denoiser, cafe: &Shot) {
+    let runs: usize = std::env::var("DENOISE_BENCH_RUNS").ok().and_then(|v| v.parse().ok()).unwrap_or(3);
+    println!("\nload average at the start: {}", load());
+    println!(
+        "{:<44} {:>9} {:>9} {:>9} {:>9}",
+        "denoise (café wide, 1 spp)", "first s", "median s", "CPU s", "CPU s / 2"
+    );
+    let rows = [
+        (UVec2::new(480, 270), Settings::PREVIEW),
+        (UVec2::new(480, 270), s(Quality::High, Guide::Clean)),
+        (UVec2::new(480, 270), s(Quality::High, Guide::Prefiltered)),
+        (UVec2::new(1920, 1080), s(Quality::Fast, Guide::AsRendered)),
+        (UVec2::new(1920, 1080), s(Quality::Balanced, Guide::Clean)),
+        (UVec2::new(1920, 1080), s(Quality::High, Guide::Clean)),
+    ];
+    let mut last = None;
+    for (size, settings) in rows {
+        if last.as_ref().is_none_or(|(s, _)| *s != size) {
+            last = Some((size, cafe.render(size, 1, 0).0));
+        }
+        let images = &last.as_ref().expect("rendered").1;
+        let (first, wall, cpu) = time(d, images, settings, runs);
+        let what = format!("{}×{} {} {}", size.x, size.y, settings.quality.name(), settings.guide.name());
+        println!("{what:<44} {first:>9.3} {wall:>9.3} {cpu:>9.3} {:>9.3}", cpu / 2.0);
+    }
+    println!("load average at the end: {}", load());
+}
+
+fn quality(d: &Denoiser, dir: &Path, shots: &[(&Shot, UVec2)]) {
+    let guides = [Guide::AsRendered, Guide::Clean, Guide::Prefiltered];
+    println!("\nrelMSE against the 1024-spp reference (seed 7), raw and denoised; load {}", load());
+    let mut header = "scene,spp,raw".to_owned();
+    for q in Quality::ALL {
+        for g in guides {
+            header += &format!(",{}/{}", q.name(), g.name());
+        }
+    }
+    println!("{header}");
+    for (shot, size) in shots {
+        let reference = shot.reference(dir, *size);
+        for spp in [1, 4, 16, 64] {
+            let (images, _) = shot.render(*size, spp, 7);
+            let mut row = format!("{},{spp},{:.5}", shot.name, rel_mse(&images.image, &reference));
+            for q in Quality::ALL {
+                for g in guides {
+                    let out = d.denoise(&images.image, Some(aux(&images)), s(q, g)).expect("denoise");
+                    row += &format!(",{:.5}", rel_mse(&out, &reference));
+                }
+            }
+            println!("{row}");
+        }
+    }
+}
+
+fn convergence(d: &Denoiser, dir: &Path, cafe: &Shot) {
+    let size = UVec2::new(240, 135);
+    let reference = cafe.reference(dir, size);
+    println!("\ncafé wide 240×135 against its 1024-spp reference; load {}", load());
+    println!("spp,seconds_raw,rel_mse_raw,seconds_denoised,rel_mse_denoised,denoiser");
+    for spp in [16, 64, 256] {
+        let (images, seconds) = cafe.render(size, spp, 7);
+        let settings = Settings::for_final(Quality::DEFAULT, spp, false, false);
+        let t = Instant::now();
+        let denoised = d.denoise(&images.image, Some(aux(&images)), settings).expect("denoise");
+        let with = seconds + t.elapsed().as_secs_f64();
+        let (raw, den) = (rel_mse(&images.image, &reference), rel_mse(&denoised, &reference));
+        println!("{spp},{seconds:.3},{raw:.6},{with:.3},{den:.6},{}", d.describe(settings, true));
+    }
+}
+
+/// The time × relMSE table of `benches/peers/cycles/denoise.sh`'s folder `dir`: per renderer and
+/// spp, the mean over seeds of the whole process's wall and CPU seconds and of the denoised
+/// picture's relMSE against the renderer's own 1024-spp reference.
+fn cycles(dir: &Path) {
+    let read = |name: &str| {
+        tracer::image_io::read_exr(&dir.join(name))
+            .unwrap_or_else(|e| panic!("{}: {e}", dir.join(name).display()))
+    };
+    let times = std::fs::read_to_string(dir.join("times.csv")).expect("times.csv (run denoise.sh first)");
+    let rows: Vec<Vec<&str>> = times.lines().map(|l| l.split(',').collect()).collect();
+    let refs = [("mcc", read("mcc-ref.exr").rgb), ("cycles", read("cycles-ref.exr").rgb)];
+    println!(
+        "\n{}: café wide 240×135, denoised, against each renderer's own 1024-spp reference",
+        dir.display()
+    );
+    println!("spp,renderer,seeds,wall_s,cpu_s,rel_mse,wall_x_rel_mse,cpu_x_rel_mse,ratio_wall,ratio_cpu");
+    let mut spps: Vec<&str> = rows.iter().map(|r| r[1]).collect();
+    spps.dedup();
+    for spp in spps {
+        let mut products = Vec::new();
+        for (who, reference) in &refs {
+            let mine: Vec<&Vec<&str>> = rows.iter().filter(|r| r[0] == *who && r[1] == spp).collect();
+            let n = mine.len() as f64;
+            let mean =
+                |i: usize| mine.iter().map(|r| r[i].parse::<f64>().expect("a number")).sum::<f64>() / n;
+            let (wall, cpu) = (mean(3), mean(4));
+            let rel = mine
+                .iter()
+                .map(|r| {
+                    let exr = read(&format!("{who}-{spp}-{}.exr", r[2]));
+                    let image = if *who == "mcc" {
+                        exr.rgb_layer("denoised").expect("layer denoised").clone()
+                    } else {
+                        exr.rgb
+                    };
+                    rel_mse(&image, reference)
+                })
+                .sum::<f64>()
+                / n;
+            products.push((wall * rel, cpu * rel));
+            let (pw, pc) = products[products.len() - 1];
+            let name = if *who == "mcc" { "mcctrace" } else { "cycles" };
+            let ratio = if products.len() == 2 {
+                format!("{:.3},{:.3}", products[0].0 / pw, products[0].1 / pc)
+            } else {
+                String::new()
+            };
+            println!("{spp},{name},{},{wall:.2},{cpu:.2},{rel:.4e},{pw:.4e},{pc:.4e},{ratio}", mine.len());
+        }
+    }
+}
+
 fn main() {
     if std::env::args().any(|a| a == "--list") {
         return;
     }
+    let parts = std::env::var("DENOISE_BENCH_PARTS").unwrap_or_else(|_| "timing,quality,convergence".into());
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    if parts == "cycles" {
+        let dir = std::env::var_os("DENOISE_BENCH_CYCLES")
+            .map_or_else(|| root.join("target/peers/cycles/denoise"), PathBuf::from);
+        return cycles(&dir);
+    }
     let start = Instant::now();
     let d = Denoiser::shared().unwrap_or_else(|e| panic!("{e}"));
     println!("device start-up: {:.3} s ({}, {})", start.elapsed().as_secs_f64(), d.version(), d.origin());
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let scene = Scene::load(&root.join("scenes/cafe/cafe.gltf")).expect("load the café");
-    let tracer = PathTracer::new(&scene, IntegratorConfig::DEFAULT).expect("prepare the café");
-
-    let runs: usize = std::env::var("DENOISE_BENCH_RUNS").ok().and_then(|v| v.parse().ok()).unwrap_or(4);
-    let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
-    println!("\nload average at the start: {}", load.trim());
-    println!(
-        "{:<36} {:>9} {:>9} {:>9} {:>9}  target",
-        "denoise (café wide, 1 spp)", "first s", "median s", "CPU s", "CPU s / 2"
-    );
-    let rows = [
-        ("480×270 studio preview", UVec2::new(480, 270), Mode::Preview, "≤ 40 ms"),
-        ("480×270 final (for comparison)", UVec2::new(480, 270), Mode::Final, ""),
-        ("1920×1080 final, aux prefiltered", UVec2::new(1920, 1080), Mode::Final, "≤ 2 s"),
-    ];
-    for (what, size, mode, target) in rows {
-        let (images, _) = render_wide(&tracer, &scene, size, 1, 0);
-        let (first, wall, cpu) = time(d, &images, mode, runs);
-        println!("{what:<36} {first:>9.3} {wall:>9.3} {cpu:>9.3} {:>9.3}  {target}", cpu / 2.0);
-    }
-
-    if std::env::var_os("DENOISE_BENCH_QUICK").is_some() {
-        return;
-    }
-    let size = UVec2::new(240, 135);
-    let (reference, seconds) = render_wide(&tracer, &scene, size, 1024, 1);
     let dir = root.join("target/denoise-bench");
     std::fs::create_dir_all(&dir).expect("create target/denoise-bench");
-    let ref_path = dir.join("cafe-wide-240x135-ref.exr");
-    tracer::image_io::write_exr(&ref_path, &reference.image, &[], &[]).expect("write the reference");
-    println!("\nreference: café wide 240×135 at 1024 spp ({seconds:.1} s) -> {}", ref_path.display());
-    println!("spp,seconds_raw,rel_mse_raw,seconds_denoised,rel_mse_denoised");
-    for spp in [16, 64, 256] {
-        let (images, seconds) = render_wide(&tracer, &scene, size, spp, 7);
-        let t = Instant::now();
-        let aux = Aux { albedo: &images.albedo, normal: &images.normal };
-        let denoised = d.denoise(&images.image, Some(aux), Mode::Final).expect("denoise");
-        let with = seconds + t.elapsed().as_secs_f64();
-        let (raw, den) = (rel_mse(&images.image, &reference.image), rel_mse(&denoised, &reference.image));
-        println!("{spp},{seconds:.3},{raw:.6},{with:.3},{den:.6}");
+    let cafe = Shot::new("cafe-wide", &root.join("scenes/cafe/cafe.gltf"), "wide", IntegratorConfig::DEFAULT);
+    for part in parts.split(',') {
+        match part {
+            "timing" => timing(d, &cafe),
+            "quality" => {
+                let cornell_path = root.join("scenes/cornell/cornell.gltf");
+                let config = IntegratorConfig::DEFAULT.with_max_depth(4);
+                let cornell = Shot::new("cornell", &cornell_path, "cornell", config);
+                let mut lens = Shot::new("cornell-lens", &cornell_path, "cornell", config);
+                let Projection::Perspective { fov_y } = lens.camera.projection else {
+                    panic!("the Cornell camera is a perspective one")
+                };
+                // Focused on the front of the short box, an aperture that blurs the back wall.
+                lens.camera.projection =
+                    Projection::ThinLens { fov_y, lens_radius: 0.15, focus_distance: 9.5 };
+                let square = UVec2::new(128, 128);
+                quality(d, &dir, &[(&cafe, UVec2::new(240, 135)), (&cornell, square), (&lens, square)]);
+            }
+            "convergence" => convergence(d, &dir, &cafe),
+            other => panic!(
+                "DENOISE_BENCH_PARTS: unknown part {other:?} (timing, quality, convergence; cycles alone)"
+            ),
+        }
     }
 }

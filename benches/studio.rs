@@ -79,17 +79,20 @@ fn remap_timing(rounds: usize) {
     }
 }
 
-async fn session(rounds: usize) {
-    let dir = std::env::temp_dir().join(format!("mcctrace-studio-bench-{}", std::process::id()));
+/// Stroke → first full-frame preview, `rounds` times (a 40-pixel-wide band of camera k, moving
+/// right each round), in a session of its own whose preview is shown denoised or raw from the
+/// start; `None` when denoising is asked for and the denoiser is not installed.
+async fn strokes(rounds: usize, denoise: bool) -> Option<Vec<f64>> {
+    let dir = std::env::temp_dir().join(format!("mcctrace-studio-bench-{}-{denoise}", std::process::id()));
     let config = studio::Config { res: Some(RES), ..studio::Config::new(Some(cafe()), dir.clone()) };
     let running = studio::serve(config).expect("the studio starts");
     let mut client = Client::connect(&running).await;
-    let state = client.hello().await;
-    assert_eq!(state["cameras"].as_array().unwrap().len(), 3, "the café has three cameras");
-    let state = client.request(json!({"type": "camera_duplicate", "index": 1})).await;
-    let fourth = state["cameras"][3].clone();
-    let [w, h] = RES;
-    // A stroke: a 40-pixel-wide band of camera k, moving right each round.
+    let state = client.request(json!({"type": "denoise", "on": denoise})).await;
+    if denoise && state["denoiser"].is_null() {
+        return None;
+    }
+    client.request(json!({"type": "camera_duplicate", "index": 1})).await;
+    let h = RES[1];
     let mut stroke_ms = Vec::new();
     for round in 0..rounds + 1 {
         let (x, k) = (10 + 45 * (round as u32 % 10), 1 + round as u8 % 4);
@@ -101,12 +104,32 @@ async fn session(rounds: usize) {
         }
         tokio::time::sleep(Duration::from_millis(300)).await;
     }
-    summary("stroke -> first full-frame preview (480x270, 4 cameras)", stroke_ms);
+    drop(running);
+    let _ = std::fs::remove_dir_all(&dir);
+    Some(stroke_ms)
+}
+
+async fn session(rounds: usize) {
+    for denoise in [true, false] {
+        let shown = if denoise { "denoised" } else { "raw" };
+        let what = format!("stroke -> first full-frame preview (480x270, 4 cameras, {shown})");
+        match strokes(rounds, denoise).await {
+            Some(ms) => summary(&what, ms),
+            None => println!("{what}: skipped (no denoiser installed)"),
+        }
+    }
     if std::env::args().any(|a| a == "strokes") {
-        drop(running);
-        let _ = std::fs::remove_dir_all(&dir);
         return;
     }
+    let dir = std::env::temp_dir().join(format!("mcctrace-studio-bench-{}", std::process::id()));
+    let config = studio::Config { res: Some(RES), ..studio::Config::new(Some(cafe()), dir.clone()) };
+    let running = studio::serve(config).expect("the studio starts");
+    let mut client = Client::connect(&running).await;
+    let state = client.hello().await;
+    assert_eq!(state["cameras"].as_array().unwrap().len(), 3, "the café has three cameras");
+    let state = client.request(json!({"type": "camera_duplicate", "index": 1})).await;
+    let fourth = state["cameras"][3].clone();
+    let [w, h] = RES;
     let mut move_ms = Vec::new();
     for round in 0..rounds {
         let eye = fourth["eye"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect::<Vec<_>>();

@@ -14,7 +14,7 @@ use crate::common::{Scratch, cornell_config, cornell_gltf, mcctrace, repo_root};
 use glam::UVec2;
 use std::process::Command;
 use tracer::compare::rel_mse;
-use tracer::denoise::{Aux, DenoiseError, Denoiser, INSTALL_COMMAND, Mode};
+use tracer::denoise::{Aux, DenoiseError, Denoiser, Guide, INSTALL_COMMAND, Quality, Settings};
 use tracer::image_io::{read_exr, read_png8};
 use tracer::integrator::{IntegratorConfig, PathTracer};
 use tracer::lens::LensChain;
@@ -41,6 +41,7 @@ fn raw_and_denoised(
     config: IntegratorConfig,
     name: &str,
     spp: u32,
+    denoise: Settings,
 ) -> (f64, f64) {
     let golden = read_golden(&golden_path(name)).expect("read the golden");
     let size = UVec2::new(golden.mean.width, golden.mean.height);
@@ -53,11 +54,13 @@ fn raw_and_denoised(
     let settings = RenderSettings { aovs: true, seed: 11, ..RenderSettings::still(spp) };
     let r = render(&tracer, built.as_ref(), &mut LensChain::new(), &settings, &NoProgress).expect("render");
     let i = &r.images;
-    let denoised = d
-        .denoise(&i.image, Some(Aux { albedo: &i.albedo, normal: &i.normal }), Mode::Final)
-        .expect("denoise");
+    let denoised =
+        d.denoise(&i.image, Some(Aux { albedo: &i.albedo, normal: &i.normal }), denoise).expect("denoise");
     let (raw, den) = (rel_mse(&i.image, &golden.mean), rel_mse(&denoised, &golden.mean));
-    println!("{name} at {spp} spp: relMSE raw {raw:.5}, denoised {den:.5} ({:.1}x lower)", raw / den);
+    println!(
+        "{name} at {spp} spp: relMSE raw {raw:.5}, denoised {den:.5} ({:.1}x lower; {denoise:?})",
+        raw / den
+    );
     (raw, den)
 }
 
@@ -69,10 +72,11 @@ fn raw_and_denoised(
 fn denoised_renders_are_far_closer_to_the_golden() {
     let Some(d) = denoiser() else { return };
     let (scene, _) = cornell_gltf();
-    let (raw, den) = raw_and_denoised(d, &scene, cornell_config(), "cornell-gltf", 4);
+    let final4 = Settings::for_final(Quality::DEFAULT, 4, false, false);
+    let (raw, den) = raw_and_denoised(d, &scene, cornell_config(), "cornell-gltf", 4, final4);
     assert!(den * 5.0 < raw, "Cornell: denoised relMSE {den} should be under a fifth of raw {raw}");
     let cafe = Scene::load(&repo_root().join("scenes/cafe/cafe.gltf")).expect("load the café");
-    let (raw, den) = raw_and_denoised(d, &cafe, IntegratorConfig::DEFAULT, "cafe-wide", 4);
+    let (raw, den) = raw_and_denoised(d, &cafe, IntegratorConfig::DEFAULT, "cafe-wide", 4, final4);
     assert!(den * 5.0 < raw, "café: denoised relMSE {den} should be under a fifth of raw {raw}");
 }
 
@@ -99,10 +103,18 @@ fn render_denoise_layers_header_png_and_bands() {
     let denoised = den.rgb_layer("denoised").expect("layer denoised");
     assert!(denoised.pixels.iter().all(|p| p.is_finite()));
     assert_ne!(bits(&denoised.pixels), bits(&raw.rgb.pixels));
-    assert_eq!(den.metadata.get("mcctrace/denoise").map(String::as_str), Some("true"));
+    assert_eq!(den.metadata.get("mcctrace/denoise").map(String::as_str), Some(Quality::DEFAULT.name()));
+    assert_eq!(
+        den.metadata.get("mcctrace/denoise_aux").map(String::as_str),
+        Some("prefiltered"),
+        "high, 4 spp"
+    );
     let record = den.metadata.get("mcctrace/denoiser").expect("the header names the denoiser");
     assert!(
-        record.contains("Open Image Denoise 2.") && record.contains("RT") && record.contains("albedo+normal"),
+        record.contains("Open Image Denoise 2.")
+            && record.contains("RT")
+            && record.contains("albedo+normal prefiltered, cleanAux")
+            && record.ends_with(&format!("quality {}", Quality::DEFAULT.name())),
         "{record}"
     );
     let png = read_png8(&s.path("single.png")).unwrap();
@@ -132,6 +144,46 @@ fn render_denoise_layers_header_png_and_bands() {
     assert_eq!(merged.metadata.get("mcctrace/denoiser"), Some(record));
     let png_bytes = |p: &str| std::fs::read(s.path(p)).unwrap();
     assert_eq!(png_bytes("bands.png"), png_bytes("single.png"));
+}
+
+/// `--denoise=QUALITY` is the quality the header records and the denoiser used, with the
+/// auxiliaries used as `Settings::for_final` says: clean from `Guide::CLEAN_FROM_SPP` samples at
+/// balanced, prefiltered at high below it and through a thin lens (depth of field), as rendered
+/// at fast; the header says which.
+#[test]
+fn the_header_records_the_quality_and_the_auxiliaries_use() {
+    let Some(_) = denoiser() else { return };
+    let s = Scratch::new("denoise-quality");
+    let scene = repo_root().join("scenes/cornell/cornell.gltf");
+    let (clean, few) = (Guide::CLEAN_FROM_SPP.to_string(), (Guide::CLEAN_FROM_SPP - 1).to_string());
+    let common = [scene.to_str().unwrap(), "--res", "24x16", "--quiet"];
+    let lens = ["--spp", &clean, "--model", "thin-lens", "--lens-radius", "0.1", "--focus-distance", "9"];
+    let cases: [(&str, &[&str], &str, &str); 4] = [
+        ("--denoise=balanced", &["--spp", &clean], "balanced", "clean"),
+        ("--denoise=high", &lens, "high", "prefiltered"),
+        ("--denoise", &["--spp", &few], "high", "prefiltered"),
+        ("--denoise=fast", &["--spp", &clean], "fast", "as-rendered"),
+    ];
+    for (i, (flag, extra, quality, aux)) in cases.into_iter().enumerate() {
+        let out = s.s(&format!("q{i}.exr"));
+        mcctrace(&[&["render"][..], &common, extra, &[flag, "--out", &out]].concat())
+            .expect("render --denoise");
+        let m = read_exr(out.as_ref()).unwrap().metadata;
+        assert_eq!(m.get("mcctrace/denoise").map(String::as_str), Some(quality), "{flag} {extra:?}");
+        assert_eq!(m.get("mcctrace/denoise_aux").map(String::as_str), Some(aux), "{flag} {extra:?}");
+        let record = &m["mcctrace/denoiser"];
+        let use_ = match aux {
+            "clean" => "albedo+normal clean, cleanAux",
+            "prefiltered" => "albedo+normal prefiltered, cleanAux",
+            _ => "albedo+normal as rendered,",
+        };
+        assert!(record.contains(use_) && record.ends_with(&format!("quality {quality}")), "{record}");
+    }
+    let bad = mcctrace(&[&["render"][..], &common, &["--denoise=best", "--out", &s.s("bad.exr")]].concat());
+    // (clap's error names the flag and the value; nothing is rendered or written)
+    let err = format!("{:#}", bad.expect_err("an unknown quality is refused"));
+    assert!(err.contains("--denoise") && err.contains("'best' is not a denoising quality"), "{err}");
+    assert!(!s.path("bad.exr").exists());
 }
 
 /// Without the library (no `MCCTRACE_OIDN`, no `.venv` where it runs, none on the system),

@@ -202,6 +202,18 @@ pub fn spp(s: &str) -> Result<u32, String> {
     Ok(n)
 }
 
+/// `--denoise=QUALITY`: Intel Open Image Denoise's quality, `fast`, `balanced` or `high`.
+pub fn denoise_quality(s: &str) -> Result<tracer::denoise::Quality, String> {
+    tracer::denoise::Quality::from_name(s.trim()).ok_or_else(|| {
+        let names: Vec<&str> = tracer::denoise::Quality::ALL.iter().map(|q| q.name()).collect();
+        format!(
+            "'{s}' is not a denoising quality: give one of {} (plain --denoise is {})",
+            names.join(", "),
+            tracer::denoise::Quality::DEFAULT.name()
+        )
+    })
+}
+
 /// `--ease`: the remapper's ease control, strictly between 0 and 1 (docs/design.md §5.4).
 pub fn ease(s: &str) -> Result<f32, String> {
     let g = s.trim().parse::<f32>().map_err(|_| format!("'{s}' is not a number"))?;
@@ -302,5 +314,44 @@ mod tests {
         assert_eq!(tag_bits("2"), Ok(2));
         assert!(tag_bits("9").unwrap_err().contains("9 bits per channel: must be 1 to 8"));
         assert!(tag_bits("0").is_err());
+    }
+
+    /// `--denoise` alone is the default quality, `--denoise=Q` names one; the value needs the
+    /// `=`, so a scene after a bare `--denoise` stays the scene; a bad quality is refused with
+    /// the flag and the qualities named. On every command that renders.
+    #[test]
+    fn denoise_takes_an_optional_quality() {
+        use clap::Parser;
+        use tracer::denoise::Quality;
+        let denoise = |line: &str| -> Result<Option<Quality>, String> {
+            let cli = crate::Cli::try_parse_from(line.split(' ')).map_err(|e| e.to_string())?;
+            Ok(match cli.command {
+                crate::Command::Render(a) => a.quality.denoise,
+                crate::Command::Rerender(a) => a.quality.denoise,
+                crate::Command::Animate(a) => a.quality.denoise,
+                crate::Command::Demo(a) => a.denoise,
+                _ => unreachable!(),
+            })
+        };
+        assert_eq!(denoise("mcctrace render s.gltf --out o.exr"), Ok(None));
+        assert_eq!(denoise("mcctrace render --denoise s.gltf --out o.exr"), Ok(Some(Quality::DEFAULT)));
+        assert_eq!(denoise("mcctrace render s.gltf --out o.exr --denoise=high"), Ok(Some(Quality::High)));
+        assert_eq!(denoise("mcctrace demo --denoise=balanced"), Ok(Some(Quality::Balanced)));
+        assert_eq!(denoise("mcctrace demo --denoise"), Ok(Some(Quality::DEFAULT)));
+        assert_eq!(
+            denoise("mcctrace rerender s.gltf --lens l.mcr --out o.exr --denoise=fast"),
+            Ok(Some(Quality::Fast))
+        );
+        assert_eq!(
+            denoise("mcctrace animate s.gltf --lens-dir d --frames 0..=1 --out o --denoise=high"),
+            Ok(Some(Quality::High))
+        );
+        let err = denoise("mcctrace render s.gltf --out o.exr --denoise=medium").unwrap_err();
+        assert!(
+            err.contains("--denoise")
+                && err.contains("'medium' is not a denoising quality: give one of fast, balanced, high"),
+            "{err}"
+        );
+        assert!(denoise_quality("ultra").unwrap_err().contains("plain --denoise is high"));
     }
 }

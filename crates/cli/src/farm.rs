@@ -147,10 +147,11 @@ struct ShotArgs {
     /// The seamless blend, as `keys --seamless`.
     #[arg(long)]
     seamless: bool,
-    /// Denoise the output frames, as `animate --denoise` (the source views stay raw: the
-    /// collages are painted from them).
-    #[arg(long)]
-    denoise: bool,
+    /// Denoise the output frames, as `animate --denoise[=QUALITY]` (the source views stay raw:
+    /// the collages are painted from them).
+    #[arg(long, value_name = "QUALITY", num_args = 0..=1, require_equals = true,
+        default_missing_value = tracer::denoise::Quality::DEFAULT.name(), value_parser = crate::args::denoise_quality)]
+    denoise: Option<tracer::denoise::Quality>,
 }
 
 /// `--mem`: a size in MiB, or with a unit K, M, G or T (Slurm's own suffixes).
@@ -304,8 +305,8 @@ impl JobArgs {
         if let Some(sh) = a.shutter {
             output_args.extend(["--shutter".into(), format!("{}..{}", sh.open, sh.close)]);
         }
-        if a.denoise {
-            output_args.push("--denoise".into());
+        if let Some(quality) = a.denoise {
+            output_args.push(format!("--denoise={}", quality.name()));
         }
         let mode = a.mode.to_possible_value().map(|v| v.get_name().to_owned()).unwrap_or_default();
         let mut keys_args = vec!["--mode".into(), mode];
@@ -415,9 +416,9 @@ mod tests {
         assert!(parse("mcctrace farm slurm --dir d").is_err(), "a shot needs its scene");
     }
 
-    /// `--denoise` on a shot reaches the output frames' `animate` commands, not the source
-    /// views' (the collages are painted from raw views); refused beside --bands, where the
-    /// still's own command carries it to its bands.
+    /// `--denoise[=QUALITY]` on a shot reaches the output frames' `animate` commands with its
+    /// quality, not the source views' (the collages are painted from raw views); refused beside
+    /// --bands, where the still's own command carries it to its bands.
     #[test]
     fn denoise_reaches_the_frames_only() {
         let dir = std::env::temp_dir().join(format!("mcctrace-farm-denoise-{}", std::process::id()));
@@ -427,7 +428,7 @@ mod tests {
         std::fs::write(&scene, b"{}").unwrap();
         std::fs::write(&collage, b"").unwrap();
         let words = format!(
-            "mcctrace farm openjd {} --key 0={} --cameras 0=a --frames 0..=3 --dir {} --denoise",
+            "mcctrace farm openjd {} --key 0={} --cameras 0=a --frames 0..=3 --dir {} --denoise=balanced",
             scene.display(),
             collage.display(),
             dir.display()
@@ -437,8 +438,8 @@ mod tests {
             panic!()
         };
         let shot = job.shot().unwrap();
-        assert!(shot.output.args.contains(&"--denoise".to_owned()), "{:?}", shot.output.args);
-        assert!(!shot.views.args.contains(&"--denoise".to_owned()), "{:?}", shot.views.args);
+        assert!(shot.output.args.contains(&"--denoise=balanced".to_owned()), "{:?}", shot.output.args);
+        assert!(!shot.views.args.iter().any(|a| a.starts_with("--denoise")), "{:?}", shot.views.args);
         let err = crate::Cli::try_parse_from(
             "mcctrace farm slurm --bands 4 --denoise --dir d -- render s.gltf".split(' '),
         )

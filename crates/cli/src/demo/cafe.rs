@@ -28,8 +28,9 @@ pub(crate) struct DemoSettings {
     pub threads: Option<usize>,
     /// No progress bars.
     pub quiet: bool,
-    /// Denoise the final rerender and the animation's frames (not the source views).
-    pub denoise: bool,
+    /// Denoise the final rerender and the animation's frames (not the source views) at this
+    /// quality.
+    pub denoise: Option<tracer::denoise::Quality>,
 }
 
 impl DemoSettings {

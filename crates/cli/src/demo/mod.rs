@@ -38,10 +38,12 @@ pub struct DemoArgs {
     /// No progress bars.
     #[arg(long, short)]
     pub(crate) quiet: bool,
-    /// Denoise the final rerender (and `--animation`'s frames) with Intel Open Image Denoise;
-    /// the source views stay raw, as the collage is painted from them.
-    #[arg(long)]
-    pub(crate) denoise: bool,
+    /// Denoise the final rerender (and `--animation`'s frames) with Intel Open Image Denoise at
+    /// QUALITY (high, the default; balanced; fast); the source views stay raw, as the collage
+    /// is painted from them.
+    #[arg(long, value_name = "QUALITY", num_args = 0..=1, require_equals = true,
+        default_missing_value = tracer::denoise::Quality::DEFAULT.name(), value_parser = crate::args::denoise_quality)]
+    pub(crate) denoise: Option<tracer::denoise::Quality>,
     /// The keyframe workflow instead: two key collages with different cameras, in-betweened
     /// into a short shot, rendered with `animate`, and a preview GIF.
     #[arg(long)]
@@ -60,7 +62,7 @@ pub struct DemoArgs {
 pub fn run(a: DemoArgs) -> anyhow::Result<()> {
     let (out, spp, res) =
         if a.animation { ("out/demo-animation", 8, (240, 135)) } else { ("out/demo", 32, (480, 270)) };
-    if a.denoise {
+    if a.denoise.is_some() {
         // Said before the source views render, not after.
         tracer::denoise::Denoiser::shared().map_err(|e| anyhow::anyhow!("--denoise: {e}"))?;
     }

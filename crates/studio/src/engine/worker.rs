@@ -17,7 +17,7 @@ use mcc::{Collage, RayFile};
 use std::collections::BTreeMap;
 use std::hash::{Hash, Hasher};
 use std::sync::Arc;
-use tracer::denoise::{Aux, Denoiser, Mode};
+use tracer::denoise::{Aux, DenoiseError, Denoiser, Settings};
 use tracer::film::FilmImages;
 use tracer::image::RgbImage;
 use tracer::integrator::PathTracer;
@@ -91,6 +91,7 @@ impl Worker {
     /// The preview's quality; with `denoise`, the film records the albedo and normal the
     /// denoiser needs.
     fn quality(spp: u32, denoise: bool) -> Quality {
+        let denoise = denoise.then_some(Settings::PREVIEW.quality);
         Quality { denoise, ..Quality::DEFAULT.with_spp(spp) }
     }
 
@@ -100,15 +101,20 @@ impl Worker {
         snap.denoise && Denoiser::shared().is_ok()
     }
 
-    /// The picture shown for a render: denoised in preview mode when `denoise`, else raw.
-    fn shown(images: FilmImages, denoise: bool) -> Result<RgbImage> {
+    /// The picture shown for a render: denoised in preview mode when `denoise`, else raw. Newer
+    /// state stops the filter within one of its tiles (`stale`), so a denoise in progress never
+    /// holds up the next stroke.
+    fn shown(images: FilmImages, denoise: bool, stale: &Stale<'_>) -> Result<RgbImage> {
         if !denoise {
             return Ok(images.image);
         }
         let aux = Aux { albedo: &images.albedo, normal: &images.normal };
         let denoised = Denoiser::shared()
-            .and_then(|d| d.denoise(&images.image, Some(aux), Mode::Preview))
-            .map_err(tracer::TracerError::from)?;
+            .and_then(|d| d.denoise_cancellable(&images.image, Some(aux), Settings::PREVIEW, stale))
+            .map_err(|e| match e {
+                DenoiseError::Cancelled => tracer::TracerError::Cancelled,
+                e => e.into(),
+            })?;
         Ok(denoised)
     }
 
@@ -160,7 +166,7 @@ impl Worker {
                 let images =
                     self.render_view(&tracer, snap, cam, size, Self::quality(spp, denoise), &stale)?;
                 let raw = images.image.clone();
-                let shown = Self::shown(images, denoise)?;
+                let shown = Self::shown(images, denoise, &stale)?;
                 self.send(snap, ImageKind::Thumb, Some(cam.index), spp, &srgb(&shown))?;
                 let cache = self.cameras.get_mut(&cam.index).expect("updated");
                 (cache.thumb, cache.first) = (Some(raw), false);
@@ -175,6 +181,7 @@ impl Worker {
             let image = Self::shown(
                 self.rerender(&tracer, snap, rays, coarse, Self::quality(1, denoise), &stale)?,
                 denoise,
+                &stale,
             )?;
             let views = &self.cameras;
             let full = composite(res.x, res.y, &image, &snap.labels, |k| {
@@ -200,7 +207,7 @@ impl Worker {
             loop {
                 let images = self.rerender(&tracer, snap, rays, res, Self::quality(spp, denoise), &stale)?;
                 let raw = denoise.then(|| images.image.clone());
-                let mut image = Self::shown(images, denoise)?;
+                let mut image = Self::shown(images, denoise, &stale)?;
                 if spp < view_spp {
                     // Painted pixels keep their camera's view samples until the rerender has
                     // as many there (it traces those very rays); from then on it is exactly

@@ -1,8 +1,9 @@
 //! One picture through OIDN's `RT` filter: inputs made finite and in range, the auxiliaries
-//! prefiltered for a final picture, the beauty filtered, the output made finite.
+//! prefiltered when the settings say so, the beauty filtered, the output made finite.
 
-use super::{DenoiseError, Denoiser, Mode};
+use super::{DenoiseError, Denoiser, Guide, Settings};
 use crate::image::RgbImage;
+use crate::render::Progress;
 use glam::Vec3;
 use std::ffi::{CStr, c_int, c_void};
 
@@ -18,16 +19,14 @@ pub struct Aux<'a> {
 
 /// `OIDN_FORMAT_FLOAT3`: three packed f32 per pixel, glam's `Vec3` layout.
 const FORMAT_FLOAT3: c_int = 3;
-/// `OIDN_QUALITY_FAST` and `OIDN_QUALITY_HIGH`.
-const QUALITY_FAST: c_int = 4;
-const QUALITY_HIGH: c_int = 6;
 
 /// Denoises `color` (see [`Denoiser::denoise`]).
 pub(super) fn run(
     denoiser: &Denoiser,
     color: &RgbImage,
     aux: Option<Aux<'_>>,
-    mode: Mode,
+    settings: Settings,
+    progress: &dyn Progress,
 ) -> Result<RgbImage, DenoiseError> {
     let (w, h) = (color.width, color.height);
     if color.pixels.len() != w as usize * h as usize {
@@ -47,25 +46,25 @@ pub(super) fn run(
         return Ok(color.clone());
     }
     let mut input = sanitized(&color.pixels, 0.0, f32::MAX);
-    let quality = if mode == Mode::Final { QUALITY_HIGH } else { QUALITY_FAST };
+    let quality = settings.quality.oidn();
     let mut output = vec![Vec3::ZERO; input.len()];
     match aux {
         None => execute(
             denoiser,
             &[(c"color", input.as_mut_ptr()), (c"output", output.as_mut_ptr())],
             (w, h),
-            false,
-            quality,
+            (false, quality),
+            progress,
         )?,
         Some(a) => {
             let mut albedo = sanitized(&a.albedo.pixels, 0.0, 1.0);
             let mut normal = sanitized(&a.normal.pixels, -1.0, 1.0);
-            let clean = mode == Mode::Final;
-            if clean {
+            let clean = settings.guide != Guide::AsRendered;
+            if settings.guide == Guide::Prefiltered {
                 // OIDN's advice for noisy auxiliaries: each filtered in place by the same filter
                 // type alone, then the beauty filtered with `cleanAux`.
                 for (name, aux) in [(c"albedo", albedo.as_mut_ptr()), (c"normal", normal.as_mut_ptr())] {
-                    execute(denoiser, &[(name, aux), (c"output", aux)], (w, h), false, quality)?;
+                    execute(denoiser, &[(name, aux), (c"output", aux)], (w, h), (false, quality), progress)?;
                 }
             }
             let images = [
@@ -74,7 +73,7 @@ pub(super) fn run(
                 (c"normal", normal.as_mut_ptr()),
                 (c"output", output.as_mut_ptr()),
             ];
-            execute(denoiser, &images, (w, h), clean, quality)?;
+            execute(denoiser, &images, (w, h), (clean, quality), progress)?;
         }
     }
     // The filter's output is finite for finite input; should a pixel not be, it keeps its
@@ -125,14 +124,17 @@ impl FilterCache {
 
 /// Runs an `RT` filter over the shared `images` (name, `w × h` float3 pixels) with `hdr` on for
 /// a beauty, `cleanAux` as given, at `quality`: the device's cached filter for these settings,
-/// or a new one.
+/// or a new one; `progress` can cancel it.
 fn execute(
     d: &Denoiser,
     images: &[(&CStr, *mut Vec3)],
     (w, h): (u32, u32),
-    clean_aux: bool,
-    quality: c_int,
+    (clean_aux, quality): (bool, c_int),
+    progress: &dyn Progress,
 ) -> Result<(), DenoiseError> {
+    if progress.cancelled() {
+        return Err(DenoiseError::Cancelled);
+    }
     let api = &d.api;
     let names = images
         .iter()
@@ -194,7 +196,22 @@ fn execute(
         (api.commit_filter)(filter);
     }
     d.check()?;
-    // SAFETY: a committed filter whose images are live (see above).
-    unsafe { (api.execute_filter)(filter) };
+    // The monitor's user pointer is `&progress` (a pointer to the fat `&dyn` pointer), live for
+    // the execution; it is cleared afterwards, so a cached filter never keeps a stale one.
+    let user = std::ptr::from_ref(&progress).cast_mut().cast::<c_void>();
+    // SAFETY: a committed filter whose images are live (see above); `monitor` matches
+    // `OIDNProgressMonitorFunction` and reads `user` only during this execution.
+    unsafe {
+        (api.set_filter_progress_monitor_function)(filter, Some(monitor), user);
+        (api.execute_filter)(filter);
+        (api.set_filter_progress_monitor_function)(filter, None, std::ptr::null_mut());
+    }
     d.check()
+}
+
+/// OIDN's progress callback: `false` (cancel) once the caller's progress is cancelled.
+unsafe extern "C" fn monitor(user: *mut c_void, _done: f64) -> bool {
+    // SAFETY: `user` is the `&&dyn Progress` that `execute` passes, live while it executes.
+    let progress = unsafe { *user.cast::<&dyn Progress>() };
+    !progress.cancelled()
 }

@@ -66,6 +66,10 @@ pub fn find_library(env: Option<&Path>, cwd: &Path) -> Result<Location, DenoiseE
     Ok(Location::System)
 }
 
+/// `OIDNProgressMonitorFunction`: called by OIDN during a filter's execution with the user
+/// pointer and the fraction done; returning `false` cancels the execution.
+pub(super) type ProgressMonitor = unsafe extern "C" fn(*mut c_void, f64) -> bool;
+
 /// OIDN's C entry points this crate calls (OIDN 2.x, `oidn.h`), resolved from the opened library.
 pub(super) struct Api {
     pub new_device: unsafe extern "C" fn(c_int) -> *mut c_void,
@@ -90,6 +94,8 @@ pub(super) struct Api {
     pub set_filter_int: unsafe extern "C" fn(*mut c_void, *const c_char, c_int),
     pub commit_filter: unsafe extern "C" fn(*mut c_void),
     pub execute_filter: unsafe extern "C" fn(*mut c_void),
+    pub set_filter_progress_monitor_function:
+        unsafe extern "C" fn(*mut c_void, Option<ProgressMonitor>, *mut c_void),
     pub release_filter: unsafe extern "C" fn(*mut c_void),
     /// Where the library was opened from, for messages and the EXR header.
     pub origin: String,
@@ -142,6 +148,7 @@ impl Api {
             set_filter_int: symbol!("oidnSetFilterInt"),
             commit_filter: symbol!("oidnCommitFilter"),
             execute_filter: symbol!("oidnExecuteFilter"),
+            set_filter_progress_monitor_function: symbol!("oidnSetFilterProgressMonitorFunction"),
             release_filter: symbol!("oidnReleaseFilter"),
             origin,
             _library: library,

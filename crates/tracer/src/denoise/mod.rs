@@ -3,12 +3,14 @@
 //! own to OIDN's C API that opens the library at run time ([`loader`]), so nothing of it is
 //! needed to build, start or render without denoising.
 //!
-//! Two ways to call it ([`Mode`]): a final picture prefilters the auxiliaries with the same filter
-//! before the beauty is filtered with `cleanAux` (OIDN's advice for auxiliaries that carry noise:
-//! ours are averages of jittered, motion-blurred, depth-of-field first hits, noisy at edges at low
-//! sample counts), at the highest quality; a preview passes them as they are at the fast
-//! quality (half the balanced one's time on this machine's CPU), for speed. Inputs are made finite and in range first (NaN or infinite samples never
-//! reach the filter), and the output is finite.
+//! A run is described by [`Settings`]: OIDN's [`Quality`] (its network: fast, balanced, high)
+//! and how the auxiliaries guide it ([`Guide`]). A final picture's auxiliaries are means over
+//! every sample's first hit, clean enough for `cleanAux` unless the camera has depth of field or
+//! motion blur or the samples are few; [`Settings::for_final`] picks the use that measured best
+//! for each quality (docs/performance.md §1.7), prefiltering them only at high quality when they
+//! carry noise, as OIDN advises. The studio's preview passes them as they are
+//! ([`Settings::PREVIEW`]). Inputs are made finite and in range
+//! first (NaN or infinite samples never reach the filter), and the output is finite.
 
 mod filter;
 mod loader;
@@ -19,7 +21,7 @@ pub use loader::{ENV_VAR, INSTALL_COMMAND, Location, find_library};
 
 use crate::image::RgbImage;
 use loader::Api;
-use std::ffi::{CStr, c_char, c_void};
+use std::ffi::{CStr, c_char, c_int, c_void};
 use std::path::PathBuf;
 use std::sync::{Mutex, OnceLock};
 
@@ -54,18 +56,122 @@ pub enum DenoiseError {
         /// OIDN's message.
         message: String,
     },
+    /// The caller's progress asked for the run to stop (newer work supersedes it).
+    #[error("denoising cancelled")]
+    Cancelled,
     /// The images handed to the denoiser do not fit together.
     #[error("denoising: {0}")]
     Input(String),
 }
 
-/// How a picture is denoised.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Mode {
-    /// A final picture: auxiliaries prefiltered, then `cleanAux`; highest quality.
-    Final,
-    /// The studio's live preview: auxiliaries as they are; OIDN's fast quality.
-    Preview,
+/// OIDN's `quality`: which network filters the picture. On this machine's 2 cores a 1920×1080
+/// beauty with auxiliaries takes about 1.6 s fast, 3.1 s balanced, 7.8 s high (with `cleanAux`;
+/// docs/performance.md §1.7).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Quality {
+    /// The small network: the quickest, a little blurrier.
+    Fast,
+    /// The default network.
+    Balanced,
+    /// The large network (with clean auxiliaries): the best, about 2.5× balanced's time.
+    High,
+}
+
+impl Quality {
+    /// What a plain `--denoise` gives, as Cycles' final renders: the best. Fast meets the 2 s
+    /// of a 1920×1080 final on 2 cores but leaves 1.2–1.55× high's relMSE, worth 1.4–2.4× the
+    /// samples, which costs more than high's few extra seconds (docs/performance.md §1.7).
+    pub const DEFAULT: Self = Self::High;
+
+    /// Every quality, quickest first.
+    pub const ALL: [Self; 3] = [Self::Fast, Self::Balanced, Self::High];
+
+    /// The name the command line and the EXR header use.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Self::Fast => "fast",
+            Self::Balanced => "balanced",
+            Self::High => "high",
+        }
+    }
+
+    /// The quality called `name` ([`Quality::name`]), if any.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|q| q.name() == name)
+    }
+
+    /// OIDN's `OIDN_QUALITY_*` value.
+    pub(crate) const fn oidn(self) -> std::ffi::c_int {
+        match self {
+            Self::Fast => 4,
+            Self::Balanced => 5,
+            Self::High => 6,
+        }
+    }
+}
+
+/// How the albedo and normal guide the filter.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Guide {
+    /// Passed as they are, `cleanAux` off: the network expects some noise in them (the studio's
+    /// few-sample preview).
+    AsRendered,
+    /// Passed as they are with `cleanAux`: they are noise-free, and the filter trusts their edges.
+    Clean,
+    /// Each first filtered alone by the same filter, then the beauty with `cleanAux` (OIDN's
+    /// advice for noisy auxiliaries): three filter runs.
+    Prefiltered,
+}
+
+impl Guide {
+    /// From this many samples per pixel (and without depth of field or motion blur) a final's
+    /// auxiliaries count as clean: their edge pixels average enough first hits.
+    pub const CLEAN_FROM_SPP: u32 = 16;
+
+    /// The name the EXR header uses.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Self::AsRendered => "as-rendered",
+            Self::Clean => "clean",
+            Self::Prefiltered => "prefiltered",
+        }
+    }
+
+    /// The guide called `name` ([`Guide::name`]), if any.
+    pub fn from_name(name: &str) -> Option<Self> {
+        [Self::AsRendered, Self::Clean, Self::Prefiltered].into_iter().find(|g| g.name() == name)
+    }
+}
+
+/// How a picture is denoised: the network and the auxiliaries' part.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Settings {
+    /// OIDN's quality.
+    pub quality: Quality,
+    /// How albedo and normal guide it (ignored without auxiliaries).
+    pub guide: Guide,
+}
+
+impl Settings {
+    /// The studio's live preview: fast, auxiliaries as rendered (few samples, noisy edges).
+    pub const PREVIEW: Self = Self { quality: Quality::Fast, guide: Guide::AsRendered };
+
+    /// How a final picture of `spp` samples per pixel is denoised at `quality`. Its auxiliaries
+    /// carry noise with depth of field (`lens`), motion blur (`motion`: the shutter open) or
+    /// fewer than [`Guide::CLEAN_FROM_SPP`] samples. Measured against 1024-spp references
+    /// (docs/performance.md §1.7): high quality's large network needs `cleanAux`, and gains
+    /// 10–13 % from prefiltering noisy auxiliaries (4 spp), nothing from it on clean ones;
+    /// balanced gains up to 10 % from `cleanAux` on clean ones and nothing from prefiltering;
+    /// fast does best with them as rendered (its `cleanAux` network is up to 20 % worse).
+    pub const fn for_final(quality: Quality, spp: u32, lens: bool, motion: bool) -> Self {
+        let noisy = lens || motion || spp < Guide::CLEAN_FROM_SPP;
+        let guide = match (quality, noisy) {
+            (Quality::Fast, _) | (Quality::Balanced, true) => Guide::AsRendered,
+            (Quality::Balanced, false) | (Quality::High, false) => Guide::Clean,
+            (Quality::High, true) => Guide::Prefiltered,
+        };
+        Self { quality, guide }
+    }
 }
 
 /// An OIDN CPU device, ready to filter images. OIDN's API is thread-safe (calls on one device
@@ -121,26 +227,44 @@ impl Denoiser {
         &self.api.origin
     }
 
-    /// What a picture denoised in `mode` was denoised with, for an EXR header.
-    pub fn describe(&self, mode: Mode, aux: bool) -> String {
-        let aux = match (aux, mode) {
+    /// What a picture denoised with `settings` was denoised with, for an EXR header.
+    pub fn describe(&self, settings: Settings, aux: bool) -> String {
+        let aux = match (aux, settings.guide) {
             (false, _) => "no auxiliaries",
-            (true, Mode::Final) => "albedo+normal prefiltered, cleanAux",
-            (true, Mode::Preview) => "albedo+normal",
+            (true, Guide::AsRendered) => "albedo+normal as rendered",
+            (true, Guide::Clean) => "albedo+normal clean, cleanAux",
+            (true, Guide::Prefiltered) => "albedo+normal prefiltered, cleanAux",
         };
-        let quality = if mode == Mode::Final { "high" } else { "fast" };
-        format!("Intel Open Image Denoise {} RT hdr, {aux}, quality {quality}", self.version)
+        format!(
+            "Intel Open Image Denoise {} RT hdr, {aux}, quality {}",
+            self.version,
+            settings.quality.name()
+        )
     }
 
-    /// `color` (linear HDR radiance) denoised in `mode`, guided by `aux` when given. Non-finite
-    /// and negative inputs are zeroed, auxiliaries clamped to their ranges; the result is finite.
+    /// `color` (linear HDR radiance) denoised with `settings`, guided by `aux` when given.
+    /// Non-finite and negative inputs are zeroed, auxiliaries clamped to their ranges; the
+    /// result is finite.
     pub fn denoise(
         &self,
         color: &RgbImage,
         aux: Option<Aux<'_>>,
-        mode: Mode,
+        settings: Settings,
     ) -> Result<RgbImage, DenoiseError> {
-        filter::run(self, color, aux, mode)
+        filter::run(self, color, aux, settings, &crate::render::NoProgress)
+    }
+
+    /// [`Denoiser::denoise`], stopped with [`DenoiseError::Cancelled`] as soon as
+    /// `progress.cancelled()` says so: OIDN asks between its tiles of work, so a run that newer
+    /// work supersedes (the studio's preview after a stroke) ends within a few milliseconds.
+    pub fn denoise_cancellable(
+        &self,
+        color: &RgbImage,
+        aux: Option<Aux<'_>>,
+        settings: Settings,
+        progress: &dyn crate::render::Progress,
+    ) -> Result<RgbImage, DenoiseError> {
+        filter::run(self, color, aux, settings, progress)
     }
 
     /// `Err` with OIDN's message if the device has an error pending.
@@ -153,8 +277,12 @@ impl Denoiser {
         // SAFETY: a live device or null (OIDN then reports its global error); `message` is an
         // out-pointer OIDN fills with a string it owns until the next call.
         let code = unsafe { (self.api.get_device_error)(device, &mut message) };
-        if code == 0 {
-            return Ok(());
+        /// `OIDN_ERROR_CANCELLED`: the progress monitor stopped the execution.
+        const ERROR_CANCELLED: c_int = 6;
+        match code {
+            0 => return Ok(()),
+            ERROR_CANCELLED => return Err(DenoiseError::Cancelled),
+            _ => {}
         }
         let text = if message.is_null() {
             format!("error {code}")

@@ -6,7 +6,10 @@
 
 use super::COUNT_KEYS;
 use super::band::{Band, IMAGE_SIZE_KEY, TILE_KEY, TILE_ROWS_KEY};
-use super::output::{DENOISED_LAYER, DENOISER_KEY, denoise_final, is_setting_key};
+use super::output::{
+    DENOISE_AUX_KEY, DENOISE_KEY, DENOISED_LAYER, DENOISER_KEY, denoise_final, is_setting_key,
+};
+use crate::denoise::{Guide, Quality, Settings};
 use crate::error::{Result, TracerError};
 use crate::image::{GrayImage, RgbImage};
 use crate::image_io::{Aov, ExrImage, ExrLayer, read_exr, write_exr, write_png_srgb};
@@ -248,7 +251,7 @@ fn write_merged(pieces: &BTreeMap<u32, &Piece>, first: &Piece, out: &Path) -> Re
     ]));
     // Bands rendered with `--denoise` carry albedo and normal, not a denoised picture: the
     // whole image is denoised here, once, so no band edge shows as a seam.
-    let denoised = if first.image.metadata.get("mcctrace/denoise").is_some_and(|v| v == "true") {
+    let denoised = if let Some(settings) = denoise_settings(&first.path, &first.image.metadata)? {
         let aux = |name: &str| match layers.get(name) {
             Some(ExrLayer::Rgb(image)) => Ok(image),
             _ => Err(TracerError::image(
@@ -258,7 +261,7 @@ fn write_merged(pieces: &BTreeMap<u32, &Piece>, first: &Piece, out: &Path) -> Re
                 ),
             )),
         };
-        let (image, denoiser) = denoise_final(&rgb, aux("albedo")?, aux("normal")?)?;
+        let (image, denoiser) = denoise_final(&rgb, aux("albedo")?, aux("normal")?, settings)?;
         metadata.push((DENOISER_KEY, denoiser));
         Some(image)
     } else {
@@ -283,4 +286,21 @@ fn write_merged(pieces: &BTreeMap<u32, &Piece>, first: &Piece, out: &Path) -> Re
     let png = out.with_extension("png");
     write_png_srgb(&png, denoised.as_ref().unwrap_or(&rgb))?;
     Ok(Merged { exr: out.to_path_buf(), png, bands: pieces.len(), size })
+}
+
+/// How bands whose header is `metadata` (of file `path`) are denoised once merged, as their
+/// header records it (`None`: not denoised); bands from before the quality was recorded say
+/// `true`, which was high quality with prefiltered auxiliaries.
+fn denoise_settings(path: &Path, metadata: &BTreeMap<String, String>) -> Result<Option<Settings>> {
+    let Some(quality) = metadata.get(DENOISE_KEY) else { return Ok(None) };
+    if quality == "true" {
+        return Ok(Some(Settings { quality: Quality::High, guide: Guide::Prefiltered }));
+    }
+    let bad = |key: &str, value: &str| {
+        TracerError::image(path, format!("header {key} is {value:?}, which this mcctrace does not know"))
+    };
+    let quality = Quality::from_name(quality).ok_or_else(|| bad(DENOISE_KEY, quality))?;
+    let guide = metadata.get(DENOISE_AUX_KEY).map_or("", String::as_str);
+    let guide = Guide::from_name(guide).ok_or_else(|| bad(DENOISE_AUX_KEY, guide))?;
+    Ok(Some(Settings { quality, guide }))
 }

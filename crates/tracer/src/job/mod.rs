@@ -18,8 +18,8 @@ pub use band::{Band, IMAGE_SIZE_KEY, TILE_KEY, TILE_ROWS_KEY};
 pub use camera_render::CameraRender;
 pub use merge::{Merged, band_files, merge_bands};
 pub use output::{
-    COUNT_KEYS, DENOISED_LAYER, DENOISER_KEY, Provenance, RenderInfo, denoise_final, describe_projection,
-    is_setting_key, write_exr, write_render,
+    COUNT_KEYS, DENOISE_AUX_KEY, DENOISE_KEY, DENOISED_LAYER, DENOISER_KEY, Provenance, RenderInfo,
+    denoise_final, describe_projection, is_setting_key, write_exr, write_render,
 };
 pub use quality::Quality;
 pub use resume::{Companion, Stale, check_finished, check_finished_with, compare_settings};

@@ -3,7 +3,7 @@
 
 use super::{Band, EnvironmentImage, Quality, SceneSetup};
 use crate::camera::Projection;
-use crate::denoise::{Aux, Denoiser, Mode};
+use crate::denoise::{Aux, Denoiser, Settings};
 use crate::error::Result;
 use crate::image::RgbImage;
 use crate::image_io::{Aov, write_exr as write_exr_file, write_png_srgb};
@@ -33,6 +33,14 @@ pub const COUNT_KEYS: [&str; 3] = ["mcctrace/seconds", "mcctrace/rays", "mcctrac
 /// Header key: what a denoised picture was denoised with (OIDN's version, filter, auxiliaries).
 /// A record of the machine's library, not a setting: resuming does not compare it.
 pub const DENOISER_KEY: &str = "mcctrace/denoiser";
+
+/// Header key: the OIDN quality a picture is denoised at (`fast`, `balanced`, `high`), present
+/// only when it is denoised; a setting.
+pub const DENOISE_KEY: &str = "mcctrace/denoise";
+
+/// Header key: how the auxiliaries guide the filter (`as-rendered`, `clean` or `prefiltered`,
+/// [`Settings::for_final`]); a setting, derived from the others, so bands merge the same way.
+pub const DENOISE_AUX_KEY: &str = "mcctrace/denoise_aux";
 
 /// The layer holding the denoised beauty beside the raw one (`denoised.R`, `.G`, `.B`).
 pub const DENOISED_LAYER: &str = "denoised";
@@ -87,6 +95,17 @@ impl<'a> RenderInfo<'a> {
         }
     }
 
+    /// How this picture is denoised, if it is: the quality asked for, the auxiliaries used as
+    /// [`Settings::for_final`] says for depth of field, motion blur (the shutter open) and the
+    /// samples (with `adaptive`, a pixel gets at least a quarter of them).
+    pub fn denoise_settings(&self) -> Option<Settings> {
+        let q = self.quality;
+        let lens = matches!(self.provenance.projection, Some(Projection::ThinLens { lens_radius, .. }) if lens_radius > 0.0);
+        let motion = self.shutter.1 > self.shutter.0;
+        let spp = if q.adaptive { q.spp / 4 } else { q.spp };
+        q.denoise.map(|quality| Settings::for_final(quality, spp, lens, motion))
+    }
+
     /// The `mcctrace/…` header attributes besides the render's counts (docs/design.md §3.6):
     /// stable keys; those of the provenance only when known.
     pub fn settings(&self) -> Vec<(&'a str, String)> {
@@ -104,9 +123,10 @@ impl<'a> RenderInfo<'a> {
             ("mcctrace/frame", self.frame.to_string()),
             ("mcctrace/shutter", format!("{}..{}", self.shutter.0, self.shutter.1)),
         ];
-        if q.denoise {
+        if let Some(settings) = self.denoise_settings() {
             // Only when asked, so outputs written before denoising existed still resume.
-            out.push(("mcctrace/denoise", "true".to_owned()));
+            out.push((DENOISE_KEY, settings.quality.name().to_owned()));
+            out.push((DENOISE_AUX_KEY, settings.guide.name().to_owned()));
         }
         let p = &self.provenance;
         if let Some(projection) = &p.projection {
@@ -165,10 +185,15 @@ pub fn describe_projection(p: &Projection) -> String {
 }
 
 /// The denoised beauty of a whole picture and what made it (`DENOISER_KEY`'s value).
-pub fn denoise_final(image: &RgbImage, albedo: &RgbImage, normal: &RgbImage) -> Result<(RgbImage, String)> {
+pub fn denoise_final(
+    image: &RgbImage,
+    albedo: &RgbImage,
+    normal: &RgbImage,
+    settings: Settings,
+) -> Result<(RgbImage, String)> {
     let denoiser = Denoiser::shared()?;
-    let denoised = denoiser.denoise(image, Some(Aux { albedo, normal }), Mode::Final)?;
-    Ok((denoised, denoiser.describe(Mode::Final, true)))
+    let denoised = denoiser.denoise(image, Some(Aux { albedo, normal }), settings)?;
+    Ok((denoised, denoiser.describe(settings, true)))
 }
 
 /// Writes `rendered` to the EXR `path`: the beauty image, its AOV layers if the quality asked
@@ -193,7 +218,7 @@ pub fn write_exr(path: &Path, rendered: &Rendered, info: &RenderInfo<'_>) -> Res
             Aov::Rgb { name: "variance", image: &images.variance },
             Aov::Gray { name: "samples", image: &images.samples },
         ]
-    } else if q.denoise && info.band.is_some() {
+    } else if q.denoise.is_some() && info.band.is_some() {
         vec![
             Aov::Rgb { name: "albedo", image: &images.albedo },
             Aov::Rgb { name: "normal", image: &images.normal },
@@ -201,8 +226,8 @@ pub fn write_exr(path: &Path, rendered: &Rendered, info: &RenderInfo<'_>) -> Res
     } else {
         Vec::new()
     };
-    let denoised = if q.denoise && info.band.is_none() {
-        let (denoised, denoiser) = denoise_final(&images.image, &images.albedo, &images.normal)?;
+    let denoised = if let Some(settings) = info.denoise_settings().filter(|_| info.band.is_none()) {
+        let (denoised, denoiser) = denoise_final(&images.image, &images.albedo, &images.normal, settings)?;
         metadata.push((DENOISER_KEY, denoiser));
         Some(denoised)
     } else {

@@ -24,9 +24,9 @@ pub struct Quality {
     pub aovs: bool,
     /// Spread the samples adaptively (`crate::adaptive`).
     pub adaptive: bool,
-    /// Denoise the finished picture (`crate::denoise`): the film then records albedo and normal
-    /// whether or not `aovs` asks to write them.
-    pub denoise: bool,
+    /// Denoise the finished picture at this OIDN quality (`crate::denoise`): the film then
+    /// records albedo and normal whether or not `aovs` asks to write them.
+    pub denoise: Option<crate::denoise::Quality>,
 }
 
 impl Quality {
@@ -39,7 +39,7 @@ impl Quality {
         split: IntegratorConfig::DEFAULT.split,
         aovs: false,
         adaptive: false,
-        denoise: false,
+        denoise: None,
     };
 
     /// The same settings at `spp` samples per pixel.
@@ -69,7 +69,7 @@ impl Quality {
             frame,
             camera_id,
             shutter,
-            aovs: self.aovs || self.denoise,
+            aovs: self.aovs || self.denoise.is_some(),
             adaptive: self.adaptive,
             rows: None,
         }
