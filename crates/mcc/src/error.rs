@@ -2,7 +2,7 @@
 //! Each variant carries the file (or, for data handed over in memory, what the data is) and a
 //! message a user can act on; nothing in this crate prints or panics on bad input.
 
-use crate::collage::StrayReport;
+use crate::stray::StrayReport;
 use std::path::PathBuf;
 use tracer::TracerError;
 

@@ -278,7 +278,7 @@ pub(crate) fn smooth(
             smooth_plane(plane, background, width, height, radii, ease, &mut scratch);
         }
     });
-    let rows = super::rows_mut(planes, width);
+    let rows = super::planes::rows_mut(planes, width);
     rows.into_par_iter().enumerate().for_each(|(y, mut row)| {
         for x in 0..width {
             if !background[y * width + x] {

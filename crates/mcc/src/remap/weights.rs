@@ -13,7 +13,7 @@
 //! whose nearest edge pixels are other pixels, but the function is public) is handled exactly:
 //! one camera at distance 0 takes α = 1, the limit of the formula; several share equally.
 
-use super::RemapWarning;
+use super::warning::RemapWarning;
 use super::nearest::NearestEdges;
 use crate::lanes::has_avx2;
 use crate::regions::Regions;
@@ -232,7 +232,7 @@ pub(crate) fn initial_weights(
     width: usize,
 ) -> Vec<Vec<f32>> {
     let mut planes: Vec<Vec<f32>> = (0..cameras).map(|_| vec![0f32; cam.len()]).collect();
-    let rows = super::rows_mut(&mut planes, width);
+    let rows = super::planes::rows_mut(&mut planes, width);
     let inputs = Inputs { cam, region, nearest, participants, width };
     let avx2 = has_avx2();
     rows.into_par_iter().enumerate().for_each_init(RowScratch::default, |scratch, (y, mut row)| {
