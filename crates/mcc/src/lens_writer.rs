@@ -14,7 +14,7 @@ use crate::names::view_rays_name;
 use crate::ray_file::{RayFile, RayFormat, StoredRay};
 use glam::UVec2;
 use rayon::prelude::*;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use tracer::camera::CameraSample;
 use tracer::error::LensError;
 use tracer::lens::{FrameContext, FrameInfo, LensShader, RayGenerator};
@@ -27,18 +27,12 @@ pub struct LensWriter {
     format: RayFormat,
     /// The frame being recorded (rays filled in `begin_frame`, written in `end_frame`).
     current: Option<RayFile>,
-    written: Option<PathBuf>,
 }
 
 impl LensWriter {
     /// A writer that puts its files into `dir` (created if missing) in `format`.
     pub fn new(dir: impl Into<PathBuf>, format: RayFormat) -> Self {
-        Self { dir: dir.into(), format, current: None, written: None }
-    }
-
-    /// The file written by the last `end_frame`.
-    pub fn last_written(&self) -> Option<&Path> {
-        self.written.as_deref()
+        Self { dir: dir.into(), format, current: None }
     }
 
     /// Records the frame's rays from `ctx.upstream`.
@@ -115,9 +109,7 @@ impl LensShader for LensWriter {
             return Err("end_frame without begin_frame: no rays recorded".into());
         };
         let path = self.dir.join(view_rays_name(ctx.frame, ctx.camera_id, self.format));
-        file.write(&path, self.format).map_err(|e| Box::new(e) as LensError)?;
-        self.written = Some(path);
-        Ok(())
+        file.write(&path, self.format).map_err(|e| Box::new(e) as LensError)
     }
 }
 
