@@ -202,7 +202,7 @@ pub fn spp(s: &str) -> Result<u32, String> {
     Ok(n)
 }
 
-/// `--ease`: the remapper's ease control, strictly between 0 and 1 (docs/design.md §5.4).
+/// `--ease`: the remapper's ease control, strictly between 0 and 1 (docs/design/mcc.md §5.4).
 pub fn ease(s: &str) -> Result<f32, String> {
     let g = s.trim().parse::<f32>().map_err(|_| format!("'{s}' is not a number"))?;
     if !(g.is_finite() && g > 0.0 && g < 1.0) {
@@ -211,7 +211,7 @@ pub fn ease(s: &str) -> Result<f32, String> {
     Ok(g)
 }
 
-/// `--tag-bits`, `--bits`: bits per channel of the camera tag, 1 to 8 (docs/design.md §4.4).
+/// `--tag-bits`, `--bits`: bits per channel of the camera tag, 1 to 8 (docs/design/mcc.md §4.4).
 pub fn tag_bits(s: &str) -> Result<u8, String> {
     let bits = s.trim().parse::<u8>().map_err(|_| format!("'{s}' is not a whole number of bits"))?;
     if !(1..=8).contains(&bits) {

@@ -1,4 +1,4 @@
-//! Collage decoding (docs/design.md §4.5): an 8-bit RGB or RGBA image at the views' resolution. A
+//! Collage decoding (docs/design/mcc.md §4.5): an 8-bit RGB or RGBA image at the views' resolution. A
 //! pixel whose alpha is 0, or whose RGB is exactly (0, 0, 0), is background (id 0); every other
 //! pixel carries its camera id in the tag bits ([`crate::tag`]).
 //!

@@ -1,4 +1,4 @@
-//! The lens writer (docs/design.md §4.7, `render --lens-writer`): a lens shader that records the
+//! The lens writer (docs/design/mcc.md §4.7, `render --lens-writer`): a lens shader that records the
 //! pixel-centre eye ray of every pixel of a source view into `frameFFFFcameraCC.{mcr|txt}`.
 //!
 //! The column's writer appended one line per traced ray inside a lock — slow, and it needed pixel
@@ -48,7 +48,7 @@ impl LensWriter {
 
 /// The pixel-centre eye ray of every pixel of a `resolution` film from `upstream` (lens centre,
 /// time = the shutter's opening), as the view's ray file for `frame`: what the lens writer
-/// records, and what the studio takes from a camera model without tracing (docs/design.md
+/// records, and what the studio takes from a camera model without tracing (docs/design/mcc.md
 /// §4.7). `reuse` is an allocation to fill. Rows run in parallel; a dropped or bad ray is an
 /// error naming the first such pixel, whatever the thread count.
 pub fn pixel_centre_rays(

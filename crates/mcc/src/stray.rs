@@ -1,4 +1,4 @@
-//! Stray pixels of a collage (docs/design.md §4.5): non-background pixels whose tag names no
+//! Stray pixels of a collage (docs/design/mcc.md §4.5): non-background pixels whose tag names no
 //! camera with a ray file, counted, the first few located, and the likely cause told (an
 //! antialiased edge, the wrong tag width, an untagged, resampled or JPEG picture, a view without
 //! its ray file) in the caller's own terms ([`StrayHints`]). A leaf: the error type carries the

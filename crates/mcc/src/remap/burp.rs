@@ -1,4 +1,4 @@
-//! Step 5 of the remapper (docs/design.md §5.5): rays. A camera pixel of camera c gets exactly
+//! Step 5 of the remapper (docs/design/mcc.md §5.5): rays. A camera pixel of camera c gets exactly
 //! R_c(p), bit for bit. A background pixel P gets the origin Σ_c α_c·A_c(e_c(P)) and the direction
 //! by *burp* (Glassner's "bilinear uniform repeated" interpolation): order the cameras with α > 0
 //! by ascending id, p_0 … p_{n−1} their directions D_c(e_c(P)); r_{n−1} = p_{n−1};

@@ -1,4 +1,4 @@
-//! The lens remapper (docs/design.md §5): turns a decoded collage, its regions and the views' ray
+//! The lens remapper (docs/design/mcc.md §5): turns a decoded collage, its regions and the views' ray
 //! files into one ray per pixel. Camera pixels keep their camera's ray bit for bit; background
 //! pixels get a ray blended from the nearest edge pixels of every camera:
 //!
@@ -50,15 +50,15 @@ use std::path::{Path, PathBuf};
 /// How background pixels blend the cameras.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Blend {
-    /// The column's method (docs/design.md §5): nearest edge rays, distance weights, blurs and ease.
+    /// The column's method (docs/design/mcc.md §5): nearest edge rays, distance weights, blurs and ease.
     #[default]
     Glassner,
     /// Smooth per-camera ray fields and fading region participation: removes the column's seams
-    /// (docs/design.md §5.8). Ignores the blur radii and the ease.
+    /// (docs/design/mcc.md §5.8). Ignores the blur radii and the ease.
     Seamless,
 }
 
-/// Remapper settings (docs/design.md §5.4); [`RemapConfig::GLASSNER`] is the default.
+/// Remapper settings (docs/design/mcc.md §5.4); [`RemapConfig::GLASSNER`] is the default.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RemapConfig {
     /// How background pixels blend the cameras.
@@ -236,7 +236,7 @@ pub fn remap<F: Borrow<RayFile>>(
     remap_sources(collage, regions, &SourceRays::gather(collage, files)?, frame, config)
 }
 
-/// Remaps a collage (docs/design.md §5): the returned rays are frame `frame`'s rerender rays.
+/// Remaps a collage (docs/design/mcc.md §5): the returned rays are frame `frame`'s rerender rays.
 pub fn remap_sources(
     collage: &Collage,
     regions: &Regions,

@@ -1,4 +1,4 @@
-//! The seamless blend ([`super::Blend::Seamless`], docs/design.md §5.8): the column's blend
+//! The seamless blend ([`super::Blend::Seamless`], docs/design/mcc.md §5.8): the column's blend
 //! of every camera's ray by distance weights and burp, with the two sources of its tears
 //! replaced.
 //!

@@ -1,4 +1,4 @@
-//! Step 4 of the remapper (docs/design.md §5.4): smoothing. Each camera's weight plane separately
+//! Step 4 of the remapper (docs/design/mcc.md §5.4): smoothing. Each camera's weight plane separately
 //! and double-buffered (every output reads only the previous plane), rewriting background pixels
 //! only (camera pixels keep exactly their 0/1 weights):
 //!
@@ -10,7 +10,7 @@
 //!
 //! The ease curve is Perlin's gain, the column's "ease curve with control value 0.75":
 //! ease(t) = (2t)^k / 2 for t < ½ and 1 − (2 − 2t)^k / 2 otherwise, k = log₂(1 / (1 − g)).
-//! With g = 0.75, k = 2: ease(t) = 2t² below ½, 1 − 2(1 − t)² above (the form of docs/design.md
+//! With g = 0.75, k = 2: ease(t) = 2t² below ½, 1 − 2(1 − t)² above (the form of docs/design/mcc.md
 //! §5.4, computed exactly); g = 0.5 is the identity.
 //!
 //! The blur is separable and runs in constant time per pixel whatever the radius: prefix sums

@@ -1,4 +1,4 @@
-//! Step 3 of the remapper (docs/design.md §5.3): initial weights. A camera pixel of camera c gets
+//! Step 3 of the remapper (docs/design/mcc.md §5.3): initial weights. A camera pixel of camera c gets
 //! α_c = 1 and every other α = 0. A background pixel P with participants S (the cameras with an
 //! edge pixel in P's region; all cameras if none has, with a warning naming the region) gets
 //!

@@ -1,4 +1,4 @@
-//! One tile of one pass over the film (docs/design.md §3.3): every pixel's samples of the pass,
+//! One tile of one pass over the film (docs/design/tracer.md §3.3): every pixel's samples of the pass,
 //! each a camera sample (film, lens and time from the sampler), its ray through the lens chain
 //! and the path tracer, added to the pixel's accumulator. The loop [`super::cpu`] compiles once
 //! per x86-64 level; a leaf of the render module.

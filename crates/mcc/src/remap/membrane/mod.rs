@@ -1,4 +1,4 @@
-//! The membrane: harmonic interpolation on the pixel grid (docs/design.md §5.8). Values are
+//! The membrane: harmonic interpolation on the pixel grid (docs/design/mcc.md §5.8). Values are
 //! given at *fixed* pixels; every other pixel becomes the average of its 4-neighbours inside the
 //! image: Laplace's equation with Dirichlet conditions at the fixed pixels and Neumann conditions
 //! at the image border, the interpolant of seamless cloning (Pérez, Gangnet & Blake 2003, "Poisson
