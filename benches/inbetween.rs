@@ -1,4 +1,4 @@
-//! In-betweener speed (docs/design.md §7): 1920×1080 frames from four synthetic keys.
+//! In-betweener speed (docs/design/workflow.md §7): 1920×1080 frames from four synthetic keys.
 //!
 //! `cargo bench -p mcctrace-suite --bench inbetween` prints one table. The keys are pinhole
 //! cameras orbiting the origin at the column's frames 0, 150, 400 and 500; the key at 400 looks

@@ -1,4 +1,4 @@
-//! Remapper, ray-file and lens-reader speed, and the remapper's peak memory (docs/design.md §5,
+//! Remapper, ray-file and lens-reader speed, and the remapper's peak memory (docs/design/mcc.md §5,
 //! §4.2, §6).
 //!
 //! `cargo bench --bench remap` prints one table. Everything is synthetic and deterministic:
@@ -11,7 +11,7 @@
 //! peak for a 4K collage with 16 cameras; a 1080p binary ray file loads in ≤ 30 ms. The seamless
 //! blend (issue 28): ≤ 2× the column's remap time at 1080p with 8 cameras and regions (rounds of
 //! both, interleaved), and seam ratio p99 ≤ 3, max ≤ 20 on the café's demo collage, a ring and two
-//! blobs of one view (section `seams`; docs/design.md §5.8).
+//! blobs of one view (section `seams`; docs/design/mcc.md §5.8).
 
 use glam::{UVec2, Vec2, Vec3};
 use mcc::collage::Collage;

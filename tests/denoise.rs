@@ -1,4 +1,4 @@
-//! Denoising with Intel Open Image Denoise (issue 44, docs/design.md §3.11), for real: the library
+//! Denoising with Intel Open Image Denoise (issue 44, docs/design/tracer.md §3.11), for real: the library
 //! installed by the README's one command (`.ci/run` installs it and sets `MCCTRACE_OIDN`; on a
 //! developer's machine without it these tests skip with a note, under CI they fail).
 //!

@@ -1,4 +1,4 @@
-//! Determinism (docs/design.md §3.5): every random number is a function of
+//! Determinism (docs/design/tracer.md §3.5): every random number is a function of
 //! (pixel, sample, dimension, seed) and every pixel is computed by one task, so a render is the
 //! same bit for bit whatever the thread count. Reference: the same render itself, on 1 thread.
 //!

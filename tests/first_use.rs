@@ -1,7 +1,7 @@
 //! What a first-time user hit (issue 27, part 2), through the real `mcctrace` command line run
 //! in-process: the demo at a size other than its mask's, and an overscanned shot finished inside
 //! the tool by `rerender`, `keys`, `inbetween` and `animate` with `--crop`, where `--res` is the
-//! size after the crop; the EXR headers say how each picture was made (docs/design.md §3.6).
+//! size after the crop; the EXR headers say how each picture was made (docs/design/tracer.md §3.6).
 
 use crate::common::{CORNELL_SECOND_VIEW, Scratch, mcctrace};
 use std::path::Path;

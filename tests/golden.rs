@@ -228,7 +228,7 @@ fn key_rays(camera: &CameraDesc, size: UVec2, frame: u32, id: u32) -> mcc::RayFi
 
 #[test]
 fn inbetween_frame_through_the_lens_reader() {
-    // docs/design.md §7 and §6: keys at frames 0 (the 'cornell' camera) and 8 (the 'corner' camera
+    // docs/design/workflow.md §7 and §6: keys at frames 0 (the 'cornell' camera) and 8 (the 'corner' camera
     // of the camera list); frame 3 of the smooth in-between is rendered through the lens reader —
     // the MCC rerender path, fed rays that no camera model produces.
     let (scene, tracer) = cornell();

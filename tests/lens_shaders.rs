@@ -1,4 +1,4 @@
-//! Lens shaders end to end (docs/design.md §3.8): shaders written here against
+//! Lens shaders end to end (docs/design/tracer.md §3.8): shaders written here against
 //! the public `LensShader` trait rewrite or drop the Cornell camera's eye rays, and the rendered
 //! images are checked against the plain render of the same scene (itself proven against Mitsuba
 //! in `cornell_reference.rs`).

@@ -1,4 +1,4 @@
-//! The light tree (docs/design.md §3.3) in a render: the café, lit by a spot light, a ceiling
+//! The light tree (docs/design/tracer.md §3.3) in a render: the café, lit by a spot light, a ceiling
 //! panel and a window of emissive triangles, rendered with lights chosen by the tree and by
 //! power alone (the choice before the tree, checked against Mitsuba on the Cornell box), each
 //! from its own seed, must agree pixel by pixel and in the image mean (the statistical test of

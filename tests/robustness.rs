@@ -1,4 +1,4 @@
-//! Numerical robustness of the tracer core (docs/design.md §3.4; docs/testing.md §4): the ray–surface arithmetic
+//! Numerical robustness of the tracer core (docs/design/tracer.md §3.4; docs/testing.md §4): the ray–surface arithmetic
 //! must not depend on where the scene is or how big it is.
 //!
 //! (a) Scale and offset: the Cornell box with every vertex and the camera scaled by 10^k,

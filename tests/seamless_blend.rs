@@ -1,4 +1,4 @@
-//! The seamless blend end to end (docs/design.md §5.8), through the `mcctrace remap` command
+//! The seamless blend end to end (docs/design/mcc.md §5.8), through the `mcctrace remap` command
 //! line: views and a collage written as files, remapped in both blends, the rays read back.
 //!
 //! - Camera pixels keep their view's rays bit for bit in both blends.

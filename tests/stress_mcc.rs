@@ -1,4 +1,4 @@
-//! Numerical stress tests of the MCC remapper's arithmetic (docs/design.md §5.3, §5.5,
+//! Numerical stress tests of the MCC remapper's arithmetic (docs/design/mcc.md §5.3, §5.5,
 //! §5.7): every result is checked against an independent f64
 //! computation, never against the code's own output.
 //!
@@ -9,7 +9,7 @@
 //! * burp over 10^5 random direction sets (1 … 63 directions): finite, unit, and within 1e-4 rad
 //!   of burp computed in f64 when no step of the chain is within 0.1 rad of opposite; with such
 //!   steps (where the great circle is ill-conditioned) finite and unit.
-//! * step 3's weights for 63 cameras: against the product formula of docs/design.md §5.3 in f64,
+//! * step 3's weights for 63 cameras: against the product formula of docs/design/mcc.md §5.3 in f64,
 //!   finite, non-negative, summing to 1; and in a whole 63-camera remap every background pixel's
 //!   smoothed weights sum to 1.
 //! * degenerate collage shapes: 1×1, 1×N and N×1, and a collage whose only camera pixels are
@@ -137,7 +137,7 @@ fn slerp_of_random_pairs_near_parallel_and_near_opposite() {
     );
 }
 
-/// Burp in f64 (docs/design.md §5.5): r_{n−1} = p_{n−1}; r_k = slerp(r_{k+1}, p_k, α_k / β_k). Also
+/// Burp in f64 (docs/design/mcc.md §5.5): r_{n−1} = p_{n−1}; r_k = slerp(r_{k+1}, p_k, α_k / β_k). Also
 /// says whether any step met a nearly opposite pair (within 0.1 of π): there the great circle is
 /// ill-conditioned (an input error δ tilts it by δ/(π − θ)), the chain compounds it, and f32
 /// and f64 may legitimately part.
@@ -220,7 +220,7 @@ fn burp_of_random_direction_sets() {
     assert_eq!(burp(&[Vec3::X, Vec3::Y], &[0.0, f32::NAN]), None);
 }
 
-/// docs/design.md §5.3 as written: v_i = (1 − g_i)·Π_{j≠i} g_j, α_i = v_i / Σ v_j (no underflow for
+/// docs/design/mcc.md §5.3 as written: v_i = (1 − g_i)·Π_{j≠i} g_j, α_i = v_i / Σ v_j (no underflow for
 /// 63 cameras in f64: the products stay above ~1e-200 for the distances used here).
 fn weights_by_product(d: &[f64]) -> Vec<f64> {
     let total: f64 = d.iter().sum();
@@ -373,7 +373,7 @@ fn one_by_one_and_one_by_n_collages() {
 }
 
 /// Only the outermost ring of pixels belongs to cameras (every camera pixel is an edge pixel by
-/// the image-border rule, docs/design.md §5.1). With one camera, every weight is 1, so each
+/// the image-border rule, docs/design/mcc.md §5.1). With one camera, every weight is 1, so each
 /// interior pixel gets exactly the ray of its nearest border pixel (ties to the smallest row, then
 /// column); with two, rays are finite and unit.
 #[test]

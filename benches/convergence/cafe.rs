@@ -34,7 +34,7 @@ const CYCLES_PRODUCT: f64 = 0.2542;
 /// Renders the series, prints it with its ratio to Cycles and writes its CSV and plot.
 pub fn run(root: &Path) {
     // The café is not from Blender, so it would get glTF's spot falloff; Cycles can only render
-    // Blender's (docs/design.md §3.10), and the comparison must render one scene.
+    // Blender's (docs/design/tracer.md §3.10), and the comparison must render one scene.
     let setup = SceneSetup { spot_falloff: Some(SpotFalloff::Blender), ..SceneSetup::default() };
     let scene = setup.load(&root.join("scenes/cafe/cafe.gltf")).expect("load the café");
     let camera = scene.camera(&CameraSelector::Name("wide".into())).expect("camera 'wide'");

@@ -1,4 +1,4 @@
-//! Animation through the real `mcctrace` command line, run in-process (docs/design.md §6–8):
+//! Animation through the real `mcctrace` command line, run in-process (docs/design/workflow.md §6–8):
 //!
 //! - `inbetween` writes exactly the asked frames; key frames (and the holds outside the keys)
 //!   reproduce the keys bit for bit, a key of another size is resampled by the lens reader's

@@ -90,7 +90,7 @@ pub(crate) fn parse_text_rays(text: &[u8]) -> Vec<[f32; 6]> {
     rays
 }
 
-/// `rgb` with camera `id` in its 2 low bits per channel (docs/design.md §4.4, b = 2).
+/// `rgb` with camera `id` in its 2 low bits per channel (docs/design/mcc.md §4.4, b = 2).
 pub(crate) fn tag(rgb: [u8; 3], id: u32) -> [u8; 3] {
     let part = |k: u32| ((id >> (2 * k)) & 3) as u8;
     [(rgb[0] & !3) | part(0), (rgb[1] & !3) | part(1), (rgb[2] & !3) | part(2)]

@@ -1,4 +1,4 @@
-//! The malformed-input corpus (`tests/bad_inputs.rs`): layered collages (OpenRaster, PSD) read by
+//! The malformed-input corpus (`tests/bad_inputs/`): layered collages (OpenRaster, PSD) read by
 //! `remap --collage`, built byte by byte here (zip archives through the zip crate, PSDs by hand
 //! from Adobe's layout), each case saying in code what is wrong.
 

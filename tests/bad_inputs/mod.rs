@@ -1,4 +1,4 @@
-//! The malformed-input corpus (issue "Trust", item 3; docs/design.md §8: "Every error names the
+//! The malformed-input corpus (issue "Trust", item 3; docs/design/workflow.md §8: "Every error names the
 //! file and what is wrong with it; no run leaves a half-written output file behind").
 //!
 //! Every case runs one `mcctrace` command line on a malformed input and checks that

@@ -5,7 +5,7 @@ use super::harness::*;
 use glam::{UVec2, Vec3};
 use std::f32::consts::PI;
 
-/// Blender Cycles' spot falloff (docs/design.md §3.10): smoothstep((cos θ − cos θo) / ((1 − cos
+/// Blender Cycles' spot falloff (docs/design/tracer.md §3.10): smoothstep((cos θ − cos θo) / ((1 − cos
 /// θo)·b)), b = 1 − inner/outer.
 pub(crate) fn blender_falloff(cos: f32, inner: f32, outer: f32) -> f32 {
     if cos <= outer.cos() {

@@ -38,7 +38,7 @@ fn normal_map_tilts_the_cosine_law() {
     let m = Vec3::from(code.map(|c| 2.0 * c as f32 / 255.0 - 1.0));
     let n_left = (m.x * Vec3::X + m.y * Vec3::NEG_Z + m.z * Vec3::Y).normalize();
     let n_right = (m.x * Vec3::NEG_Z + m.y * Vec3::NEG_X + m.z * Vec3::Y).normalize();
-    // Blender's bump shadowing of the diffuse lobe (docs/design.md §3.10; Chiang et al. 2019, as
+    // Blender's bump shadowing of the diffuse lobe (docs/design/tracer.md §3.10; Chiang et al. 2019, as
     // Cycles' `bump_shadowing_term`): a GGX G1 for the light's angle to the unmapped normal Y,
     // with α² = ⅛·tan² of the map's tilt.
     let shadowing = |n: Vec3| {
@@ -118,7 +118,7 @@ fn glass_ball_refracts_as_snell_and_fresnel_say() {
         "",
     );
     let scene = load(&g.write(&dir, "glass"));
-    // The texels are sRGB: filtered encoded, then decoded (docs/design.md §3.10), so the
+    // The texels are sRGB: filtered encoded, then decoded (docs/design/tracer.md §3.10), so the
     // emitted red is the decoded linear ramp of the encoded value.
     let decode = |c: f64| if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) };
     let ramp = |x: f64| decode(((x + 2.0) / 4.0).clamp(0.0, 1.0));

@@ -1,4 +1,4 @@
-//! Numerical stress tests of the tracer (docs/testing.md §4; docs/design.md §3.4, §3.8): `tests/robustness.rs`
+//! Numerical stress tests of the tracer (docs/testing.md §4; docs/design/tracer.md §3.4, §3.8): `tests/robustness.rs`
 //! proves the ray–surface arithmetic on the Cornell box (Lambert, emissive triangles, a perspective
 //! camera); these extend it to every material (Lambert, GGX metal, rough dielectric, glass,
 //! textured alpha mask, normal maps through explicit and derived tangents, one- and double-sided

@@ -1,6 +1,6 @@
-//! The stress scene, built in code: one object per material of the tracer (docs/design.md §3.1,
+//! The stress scene, built in code: one object per material of the tracer (docs/design/tracer.md §3.1,
 //! "Integrator"), lit by each light type in turn or all at once, seen through each camera model
-//! (docs/design.md §3.8), and the similarity transform that scales and moves it
+//! (docs/design/tracer.md §3.8), and the similarity transform that scales and moves it
 //! together with everything whose units are lengths.
 
 use crate::common::{icosphere, look_at};

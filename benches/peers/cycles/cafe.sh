@@ -4,7 +4,7 @@
 # box filter; then `error.py` gives each renderer's time × relMSE (the variance part from its
 # two seeds) and their ratio. Needs a release build (`cargo build --release`) and `setup.sh`.
 # The café is not from Blender, so mcctrace would fade its spot by glTF's ramp, which Cycles
-# cannot render: mcctrace gets `--spot-falloff blender` (docs/design.md §3.10).
+# cannot render: mcctrace gets `--spot-falloff blender` (docs/design/tracer.md §3.10).
 #   benches/peers/cycles/cafe.sh [OUT_DIR] [EXTRA mcctrace FLAGS...]
 # Views: VIEWS="wide:240x135:256 left:480x270:64 right:480x270:64" (name:WxH:spp) by default.
 set -euo pipefail

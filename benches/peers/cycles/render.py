@@ -41,7 +41,7 @@ def math_node(tree, operation, a=None, b=None):
 
 def one_sided_emission(gltf_path):
     """Blender's importer drops `doubleSided: false`, so Cycles would emit from both faces of an
-    emissive surface that glTF (and mcctrace, docs/design.md §3.9) lights from the front only.
+    emissive surface that glTF (and mcctrace, docs/design/tracer.md §3.9) lights from the front only.
     For each such material, multiply its Principled BSDF's emission strength by (1 − Backfacing)
     from a Geometry node: the back face then emits nothing, the front face as before. Returns
     the names of the materials changed."""

@@ -1,4 +1,4 @@
-//! `mcctrace animate`: render a shot through per-frame ray files (docs/design.md §6 lens
+//! `mcctrace animate`: render a shot through per-frame ray files (docs/design/workflow.md §6 lens
 //! reader, §8 workflow) with the library's [`Animate`] job: finished frames skipped, stale ones
 //! rendered again and the reason said, so a crashed run resumes and a render farm's job array
 //! can split a shot by `--frames` ranges over a shared folder; `--check` renders nothing and

@@ -223,7 +223,7 @@ pub fn ease(s: &str) -> Result<f32, String> {
     Ok(g)
 }
 
-/// `--tag-bits`, `--bits`: bits per channel of the camera tag, 1 to 8 (docs/design.md §4.4).
+/// `--tag-bits`, `--bits`: bits per channel of the camera tag, 1 to 8 (docs/design/mcc.md §4.4).
 pub fn tag_bits(s: &str) -> Result<u8, String> {
     let bits = s.trim().parse::<u8>().map_err(|_| format!("'{s}' is not a whole number of bits"))?;
     if !(1..=8).contains(&bits) {

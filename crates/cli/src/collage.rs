@@ -1,4 +1,4 @@
-//! `mcctrace collage`: compose a collage from a label image (docs/design.md §8's image-editor step
+//! `mcctrace collage`: compose a collage from a label image (docs/design/workflow.md §8's image-editor step
 //! done from a file, for scripts and tests): each labelled pixel copies the tagged view of its
 //! camera; black stays background.
 

@@ -1,4 +1,4 @@
-//! `mcctrace inbetween`: the in-betweener (docs/design.md §7, §8): key ray files in, one
+//! `mcctrace inbetween`: the in-betweener (docs/design/workflow.md §7, §8): key ray files in, one
 //! `rerender-frameFFFF` ray file per frame out, each written atomically.
 
 use crate::args::{FrameRange, KeyArg, RayFormatArg, Resolution};

@@ -1,6 +1,6 @@
 //! `mcctrace keys`: the column's keyframe workflow in one go (docs/design.md §5, §7, §8) with the
 //! library's [`KeyFrames`] job: one collage per key frame, each remapped against that frame's
-//! source views (`frameFFFFcameraCC.mcr`, docs/design.md §4.3), then in-betweened into one ray
+//! source views (`frameFFFFcameraCC.mcr`, docs/design/mcc.md §4.3), then in-betweened into one ray
 //! file per frame; skipped when those files are finished for the same keys, views and settings
 //! (`mcc::job::KeysRecord`, docs/farm.md).
 

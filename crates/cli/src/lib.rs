@@ -1,4 +1,4 @@
-//! The `mcctrace` command line (docs/design.md §8): parses arguments, builds the libraries' jobs
+//! The `mcctrace` command line (docs/design/workflow.md §8): parses arguments, builds the libraries' jobs
 //! (`tracer::job`, `mcc::job`), runs them and reports progress, results and errors. Nothing here
 //! renders or remaps by itself.
 

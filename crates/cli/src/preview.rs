@@ -1,4 +1,4 @@
-//! The animation preview (docs/design.md §8, `animate`): an animated GIF of every finished frame in
+//! The animation preview (docs/design/workflow.md §8, `animate`): an animated GIF of every finished frame in
 //! an output folder, made from the frames' sRGB PNG previews (so its tone mapping is theirs: linear
 //! radiance clamped to [0, 1], sRGB-encoded), scaled down to a small size, written atomically.
 

@@ -1,4 +1,4 @@
-//! Progress on the terminal (docs/design.md §8: long work shows progress): the libraries
+//! Progress on the terminal (docs/design/workflow.md §8: long work shows progress): the libraries
 //! report stages and their units through [`tracer::render::Progress`]; this draws each stage as
 //! an indicatif bar on stderr, or nothing with `--quiet`. The command line never cancels.
 

@@ -1,4 +1,4 @@
-//! `mcctrace remap`: the lens remapper (docs/design.md §5): a collage and the views' ray files
+//! `mcctrace remap`: the lens remapper (docs/design/mcc.md §5): a collage and the views' ray files
 //! in, one ray per pixel out.
 
 use crate::args::RayFormatArg;

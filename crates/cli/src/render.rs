@@ -150,7 +150,7 @@ impl JobProgress<ViewsEvent<'_>> for ViewsTerminal {
                 warn_nonfinite(&view.desc.name, rendered);
                 if !self.quiet {
                     eprintln!("{}", summary(&view.desc.name, self.spp, rendered, &files.exr));
-                    // The ray file is named by the view's frame and id (docs/design.md §4.3), not by --out.
+                    // The ray file is named by the view's frame and id (docs/design/mcc.md §4.3), not by --out.
                     if let Some(rays) = &files.rays {
                         eprintln!("{}: rays -> {}", view.desc.name, rays.display());
                     }

@@ -1,4 +1,4 @@
-//! `mcctrace rerender`: the lens reader (docs/design.md §6, §8): remap a collage (or take a
+//! `mcctrace rerender`: the lens reader (docs/design/workflow.md §6, §8): remap a collage (or take a
 //! ready ray file) and render the scene with one ray per pixel from it, at any output
 //! resolution; with `--tile I/N`, one band of it (docs/farm.md), skipped when already finished.
 
@@ -139,7 +139,7 @@ pub fn run(a: RerenderArgs) -> anyhow::Result<()> {
     }
     render_through(&a.scene, &q.scene_setup(a.fps)?, &job, q.threads, q.quiet, &a.out)?;
     // The remapped rays are saved only once the render has succeeded: a run that fails (a bad
-    // --crop, --spp, scene …) leaves no output behind (docs/design.md §8).
+    // --crop, --spp, scene …) leaves no output behind (docs/design/workflow.md §8).
     if let Some(remapped) = remapped {
         // Named after --out, as the PNG is: a fixed name beside it (rerender-frameFFFF.mcr)
         // replaced whatever lay there, e.g. a `remap --seamless` file of that name.

@@ -1,4 +1,4 @@
-//! `mcctrace tag`: the standalone camera tagger (docs/design.md §4.4): stamp a camera number into
+//! `mcctrace tag`: the standalone camera tagger (docs/design/mcc.md §4.4): stamp a camera number into
 //! the low bits of an 8-bit image's pixels.
 
 use clap::Args;

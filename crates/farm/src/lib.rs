@@ -1,5 +1,5 @@
 //! Render-farm jobs of a whole MCC shot (docs/farm.md, "Schedulers"; the shot's stages are
-//! docs/design.md §8's keyframe workflow): the source views of every key frame, `keys` (remap and
+//! docs/design/workflow.md §8's keyframe workflow): the source views of every key frame, `keys` (remap and
 //! in-between), the output frames in chunks, and a check of every frame, as Slurm batch scripts
 //! ([`slurm`]) or an Open Job Description template ([`openjd`]). Both are written from one
 //! [`Shot`] and its [`Plan`]: the `mcctrace` command line of every task. A big still

@@ -90,7 +90,7 @@ impl BadLabels {
             Some((_, n)) => *n += 1,
             None => self.reasons.push((reason, 1)),
         }
-        if self.first.len() < crate::collage::STRAY_LOCATIONS {
+        if self.first.len() < crate::stray::STRAY_LOCATIONS {
             self.first.push((x, y));
         }
     }

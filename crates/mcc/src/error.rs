@@ -1,8 +1,8 @@
-//! The MCC error type (docs/design.md §8: "every error names the file and what is wrong with it").
+//! The MCC error type (docs/design/workflow.md §8: "every error names the file and what is wrong with it").
 //! Each variant carries the file (or, for data handed over in memory, what the data is) and a
 //! message a user can act on; nothing in this crate prints or panics on bad input.
 
-use crate::collage::StrayReport;
+use crate::stray::StrayReport;
 use std::path::PathBuf;
 use tracer::TracerError;
 

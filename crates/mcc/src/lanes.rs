@@ -25,6 +25,42 @@ pub(crate) fn has_avx2() -> bool {
     }
 }
 
+/// One loop compiled twice from its `#[inline(always)]` body, and the one way to pick between
+/// them: `$dispatch` runs `$avx2` (the body compiled with AVX2: eight f32 lanes a vector) when the
+/// CPU has it ([`has_avx2`]), else `$baseline` (baseline x86-64: four lanes). The bodies use the
+/// same IEEE operations either way (no FMA), so the choice changes no bit; tests call both twins
+/// to check that.
+macro_rules! avx2_twins {
+    (
+        $(#[$doc:meta])*
+        $vis:vis fn $dispatch:ident | $baseline:ident | $avx2:ident ($($arg:ident: $ty:ty),* $(,)?) => $body:ident
+    ) => {
+        $(#[$doc])*
+        $vis fn $dispatch($($arg: $ty),*) {
+            #[cfg(target_arch = "x86_64")]
+            if $crate::lanes::has_avx2() {
+                // SAFETY: the CPU has AVX2 (checked just above), the one feature `$avx2` enables.
+                unsafe { $avx2($($arg),*) };
+                return;
+            }
+            $baseline($($arg),*);
+        }
+
+        #[doc = concat!("[`", stringify!($body), "`] compiled for baseline x86-64.")]
+        fn $baseline($($arg: $ty),*) {
+            $body($($arg),*);
+        }
+
+        #[doc = concat!("[`", stringify!($body), "`] compiled with AVX2: the same IEEE operations (no FMA), the same bits.")]
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = "avx2")]
+        fn $avx2($($arg: $ty),*) {
+            $body($($arg),*);
+        }
+    };
+}
+pub(crate) use avx2_twins;
+
 /// `if c { x } else { y }` on values already computed: LLVM makes it a SIMD blend. (A select
 /// between two *loads* would become a load through a selected pointer, which does not
 /// vectorise; every select in these loops picks between computed values.)

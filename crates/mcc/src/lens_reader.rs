@@ -1,4 +1,4 @@
-//! The lens reader (docs/design.md §6): a lens shader that replaces every eye ray by the ray a
+//! The lens reader (docs/design/workflow.md §6): a lens shader that replaces every eye ray by the ray a
 //! ray file gives for the sample's film position, interpolated at any output resolution.
 //!
 //! For an output of W × H and a file of w × h, film position (x, y) maps to u = x·w/W − ½,
@@ -29,7 +29,7 @@ use tracer::ray::Ray;
 /// Squared chord below which the four directions of a cell are blended with one normalisation.
 /// All pairwise angles are then under 0.01 rad, where a normalised lerp is within 0.016·θ³
 /// ≤ 1.6e-8 rad of a slerp, and the row results' lengths differ by under θ²/8, which moves the
-/// vertical blend by under 3e-8 rad: the fused result matches docs/design.md §6's nested form to
+/// vertical blend by under 3e-8 rad: the fused result matches docs/design/workflow.md §6's nested form to
 /// below f32 resolution (6e-8).
 const FUSED_CHORD_SQUARED: f32 = 2.5e-5;
 
@@ -77,7 +77,7 @@ impl RaySampler {
         &self.rays
     }
 
-    /// The interpolated ray at film position `p` of the output (docs/design.md §6).
+    /// The interpolated ray at film position `p` of the output (docs/design/workflow.md §6).
     #[inline]
     pub fn at(&self, p: Vec2) -> StoredRay {
         let f = &*self.rays;
@@ -239,7 +239,7 @@ impl LensShader for LensReader {
 
 #[cfg(test)]
 mod tests {
-    //! Tests of the lens reader (docs/design.md §6).
+    //! Tests of the lens reader (docs/design/workflow.md §6).
 
     use super::*;
     use crate::names::rerender_name;
@@ -448,7 +448,7 @@ mod tests {
     #[test]
     fn fused_blend_matches_the_nested_slerps() {
         // Close neighbours (a smooth camera): the fused path is taken; compare with
-        // docs/design.md §6's form.
+        // docs/design/workflow.md §6's form.
         let (w, h) = (40, 30);
         let rays = (0..w * h)
             .map(|p| {

@@ -1,4 +1,4 @@
-//! The lens writer (docs/design.md §4.7, `render --lens-writer`): a lens shader that records the
+//! The lens writer (docs/design/mcc.md §4.7, `render --lens-writer`): a lens shader that records the
 //! pixel-centre eye ray of every pixel of a source view into `frameFFFFcameraCC.{mcr|txt}`.
 //!
 //! The column's writer appended one line per traced ray inside a lock — slow, and it needed pixel
@@ -14,7 +14,7 @@ use crate::names::view_rays_name;
 use crate::ray_file::{RayFile, RayFormat, StoredRay};
 use glam::UVec2;
 use rayon::prelude::*;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use tracer::camera::CameraSample;
 use tracer::error::LensError;
 use tracer::lens::{FrameContext, FrameInfo, LensShader, RayGenerator};
@@ -27,18 +27,12 @@ pub struct LensWriter {
     format: RayFormat,
     /// The frame being recorded (rays filled in `begin_frame`, written in `end_frame`).
     current: Option<RayFile>,
-    written: Option<PathBuf>,
 }
 
 impl LensWriter {
     /// A writer that puts its files into `dir` (created if missing) in `format`.
     pub fn new(dir: impl Into<PathBuf>, format: RayFormat) -> Self {
-        Self { dir: dir.into(), format, current: None, written: None }
-    }
-
-    /// The file written by the last `end_frame`.
-    pub fn last_written(&self) -> Option<&Path> {
-        self.written.as_deref()
+        Self { dir: dir.into(), format, current: None }
     }
 
     /// Records the frame's rays from `ctx.upstream`.
@@ -54,7 +48,7 @@ impl LensWriter {
 
 /// The pixel-centre eye ray of every pixel of a `resolution` film from `upstream` (lens centre,
 /// time = the shutter's opening), as the view's ray file for `frame`: what the lens writer
-/// records, and what the studio takes from a camera model without tracing (docs/design.md
+/// records, and what the studio takes from a camera model without tracing (docs/design/mcc.md
 /// §4.7). `reuse` is an allocation to fill. Rows run in parallel; a dropped or bad ray is an
 /// error naming the first such pixel, whatever the thread count.
 pub fn pixel_centre_rays(
@@ -115,9 +109,7 @@ impl LensShader for LensWriter {
             return Err("end_frame without begin_frame: no rays recorded".into());
         };
         let path = self.dir.join(view_rays_name(ctx.frame, ctx.camera_id, self.format));
-        file.write(&path, self.format).map_err(|e| Box::new(e) as LensError)?;
-        self.written = Some(path);
-        Ok(())
+        file.write(&path, self.format).map_err(|e| Box::new(e) as LensError)
     }
 }
 

@@ -19,6 +19,7 @@ pub mod ray_file;
 pub mod regions;
 pub mod remap;
 pub mod slerp;
+pub mod stray;
 pub mod tag;
 
 #[cfg(test)]
@@ -28,7 +29,7 @@ mod test_util;
 /// callers name the same types.
 pub use image;
 
-pub use collage::{Collage, CollageOptions, StrayHints, StrayPolicy, StrayReport};
+pub use collage::{Collage, CollageOptions};
 pub use error::{MccError, Result};
 pub use inbetween::{InbetweenMode, Keys};
 pub use lens_reader::LensReader;
@@ -36,4 +37,5 @@ pub use lens_writer::LensWriter;
 pub use ray_file::{RayFile, RayFormat, StoredRay};
 pub use regions::Regions;
 pub use remap::{RemapConfig, RemapOutput, remap};
+pub use stray::{StrayHints, StrayPolicy, StrayReport};
 pub use tag::TagCode;

@@ -1,4 +1,4 @@
-//! File names (docs/design.md §4.3): source views are `frame0005camera03.{exr,png,mcr|txt}`
+//! File names (docs/design/mcc.md §4.3): source views are `frame0005camera03.{exr,png,mcr|txt}`
 //! (render, tagged image, rays), rerender rays are `rerender-frame0005.{mcr|txt}`. Frames print
 //! with at least 4 digits and cameras with at least 2; readers accept any number of digits, so
 //! `frame12345camera100.mcr` round-trips. The ray-file extension only names the usual encoding:

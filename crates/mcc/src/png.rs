@@ -1,4 +1,4 @@
-//! 8-bit PNG input and output for the MCC's images (docs/design.md §4: tagged views, collages,
+//! 8-bit PNG input and output for the MCC's images (docs/design/mcc.md §4: tagged views, collages,
 //! region images; §5.6 debug pictures), through the `image` crate. Reads decode by content (a
 //! mislabelled JPEG still decodes); writes go through the tracer's atomic writer, so no run leaves
 //! half a PNG behind.

@@ -1,4 +1,4 @@
-//! Region images (docs/design.md §4.6): optional, at the collage's resolution; a region is the
+//! Region images (docs/design/mcc.md §4.6): optional, at the collage's resolution; a region is the
 //! set of pixels of one exact colour (not necessarily connected). Given explicitly or found beside
 //! the collage as `<collage-stem>-regions.png`; without one, the whole picture is one region.
 //!

@@ -1,4 +1,4 @@
-//! Spherical interpolation of unit directions (docs/design.md §5.7; §5.5, §6).
+//! Spherical interpolation of unit directions (docs/design/mcc.md §5.7; §5.5, §6).
 //!
 //! `acos(a·b)` loses all precision near 0 and π, and glam's `Vec3::slerp` is 1.5e-2 rad off at
 //! θ = 3.14; opposite eye rays are normal in a collage (two cameras facing each other), so this

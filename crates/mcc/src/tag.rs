@@ -1,4 +1,4 @@
-//! The camera tag code (docs/design.md §4.4): a camera id 1 … 2^(3b) − 1 lives in the b low-order
+//! The camera tag code (docs/design/mcc.md §4.4): a camera id 1 … 2^(3b) − 1 lives in the b low-order
 //! bits of each 8-bit channel. Red holds the lowest b bits of the id, green the middle b, blue the
 //! highest b: camera 9 with b = 2 is 00 10 01 → blue …00, green …10, red …01. Id 0 means *no
 //! camera*, so a tagged pixel is never (0, 0, 0), the collage's background.

@@ -192,11 +192,6 @@ impl Maps {
     pub fn can_redo(&self) -> bool {
         !self.redo.is_empty()
     }
-
-    /// Whether any pixel is painted with a camera.
-    pub fn any_labels(&self) -> bool {
-        self.labels.iter().any(|&l| l != 0)
-    }
 }
 
 #[cfg(test)]

@@ -29,20 +29,6 @@ where
     })
 }
 
-/// Like [`write_atomically`], for encoders that want a path rather than a writer: `write` must
-/// create the file it is given; it is renamed over `path` on success and removed on failure.
-pub fn write_atomically_via_path<F>(path: &Path, write: F) -> Result<()>
-where
-    F: FnOnce(&Path) -> Result<()>,
-{
-    let tmp = temporary_path(path);
-    let result = write(&tmp).and_then(|()| std::fs::rename(&tmp, path).map_err(|e| TracerError::io(path, e)));
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
-}
-
 /// `dir/.name.tmp-<pid>-<n>`: hidden, in the same directory (so the rename cannot cross file
 /// systems), unique per process and call.
 fn temporary_path(path: &Path) -> PathBuf {

@@ -1,4 +1,4 @@
-//! The film (docs/design.md §3.6): box-filtered pixels — each sample counts fully in the pixel its
+//! The film (docs/design/tracer.md §3.6): box-filtered pixels — each sample counts fully in the pixel its
 //! film position falls in, so a pixel's value is the plain mean of its samples. Alongside the
 //! mean, each pixel keeps the sum of squares for the per-sample variance (the statistical
 //! golden tests and the variance AOV need it) and the first-hit AOVs.

@@ -1,5 +1,5 @@
 //! A ray's hit on a surface, and spawning rays from it without self-intersection at any scene
-//! scale (docs/design.md §3.4): origins are pushed off the surface along the geometric normal
+//! scale (docs/design/tracer.md §3.4): origins are pushed off the surface along the geometric normal
 //! by the hit point's floating-point error bound and rounded away from it (pbrt-v4 §6.8.6),
 //! never by a fixed epsilon.
 

@@ -1,4 +1,4 @@
-//! Lens shaders (docs/design.md §3.8): after the camera builds an eye ray, each
+//! Lens shaders (docs/design/tracer.md §3.8): after the camera builds an eye ray, each
 //! shader of the chain is called in order and may rewrite the ray or drop the sample. A shader
 //! gets a per-frame set-up call before any ray is traced and a tear-down call after the last.
 //!
@@ -21,7 +21,7 @@ pub trait RayGenerator: Sync {
 pub struct FrameContext<'a> {
     /// The frame number being rendered.
     pub frame: u32,
-    /// The view's camera number (1-based, in command-line order; docs/design.md §4.3).
+    /// The view's camera number (1-based, in command-line order; docs/design/mcc.md §4.3).
     pub camera_id: u32,
     /// Film resolution in pixels.
     pub resolution: UVec2,

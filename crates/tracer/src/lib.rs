@@ -1,5 +1,5 @@
 //! mcctrace's tracer: a BVH-accelerated unidirectional path tracer whose camera passes every eye
-//! ray through a chain of lens shaders (docs/design.md §3). It knows nothing about the multicamera
+//! ray through a chain of lens shaders (docs/design/tracer.md §3). It knows nothing about the multicamera
 //! collage; the `mcc` crate plugs in through [`lens::LensShader`].
 #![warn(missing_docs)]
 #![allow(

@@ -1,5 +1,5 @@
 //! A ray in world (render) space: the unit the camera, the lens shaders and the integrator pass
-//! around (docs/design.md §3.8).
+//! around (docs/design/tracer.md §3.8).
 
 use glam::Vec3;
 

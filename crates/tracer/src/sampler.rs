@@ -1,4 +1,4 @@
-//! Sample generation (docs/design.md §3.5): every random number is a pure
+//! Sample generation (docs/design/tracer.md §3.5): every random number is a pure
 //! function of (pixel, sample index, dimension, seed), so an image is the same bit for bit
 //! whatever the thread count or tile order.
 //!

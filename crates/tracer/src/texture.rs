@@ -1,7 +1,7 @@
 //! Image textures (glTF 2.0 §3.8; `KHR_texture_transform`): RGBA texels looked up by texture
 //! coordinates with the sampler's wrap modes and filter. Colour textures from 8- and 16-bit
 //! images keep their sRGB-encoded values and are decoded after filtering, as Cycles does
-//! (docs/design.md §3.10); float images and data textures hold linear values.
+//! (docs/design/tracer.md §3.10); float images and data textures hold linear values.
 //!
 //! Texture coordinates follow glTF: (0, 0) is the top-left corner of the image, u right, v down.
 
@@ -217,7 +217,7 @@ impl Texture {
 /// The sRGB EOTF on RGB, alpha unchanged. Applied after filtering, not to each texel at load:
 /// Cycles keeps 8- and 16-bit sRGB images encoded and decodes the interpolated value, and a
 /// blend of encoded values decodes darker than the blend of decoded ones (the curve is convex),
-/// which shifted Blender scenes' colours by up to 14 % on checker textures (docs/design.md §3.10).
+/// which shifted Blender scenes' colours by up to 14 % on checker textures (docs/design/tracer.md §3.10).
 #[inline]
 fn srgb_to_linear(v: Vec4) -> Vec4 {
     let eotf =

@@ -70,7 +70,7 @@ pub fn split_parts(data: &[u8], n: usize) -> Vec<&[u8]> {
 pub const SEPARATOR: &[u8] = b"\n#%%mcctrace-fuzz%%\n";
 
 // ---------------------------------------------------------------------------------------------
-// Ray files (docs/design.md §4.2): `RayFile::parse` in memory and `RayFile::read` from a file.
+// Ray files (docs/design/mcc.md §4.2): `RayFile::parse` in memory and `RayFile::read` from a file.
 
 /// Ray files: bytes → `RayFile::parse` and `RayFile::read` (must agree); an accepted file
 /// re-encodes and re-reads bit for bit in both encodings.
@@ -116,7 +116,7 @@ pub fn ray_file(data: &[u8]) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Collages and region images (docs/design.md §4.5, §4.6): image bytes → `Collage::load` /
+// Collages and region images (docs/design/mcc.md §4.5, §4.6): image bytes → `Collage::load` /
 // `Collage::decode` with several camera sets and tag codes, and `Regions::load` /
 // `Regions::from_image`.
 
@@ -220,7 +220,7 @@ pub fn layers(data: &[u8]) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Scenes (docs/design.md §3.1): `Scene::load` of a .gltf/.glb file, and of an OBJ file with its MTL
+// Scenes (docs/design/tracer.md §3.1): `Scene::load` of a .gltf/.glb file, and of an OBJ file with its MTL
 // and a texture.
 
 /// glTF: the bytes are a `.gltf` (JSON) or `.glb` file (the loader tells them by the GLB magic,

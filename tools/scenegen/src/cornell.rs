@@ -144,7 +144,7 @@ fn parse_mtl(path: &Path) -> Result<BTreeMap<String, MtlMaterial>> {
     Ok(materials)
 }
 
-/// A glTF material for an MTL one, as Blender's exporter writes such surfaces (docs/design.md
+/// A glTF material for an MTL one, as Blender's exporter writes such surfaces (docs/design/tracer.md
 /// §3.10): plain surfaces are two-sided with `KHR_materials_specular` 0 (pure Lambertian, like an
 /// MTL without Ks); an emitter is emissiveFactor × emissiveStrength, one-sided like the MTL's
 /// front-face `Ke`.

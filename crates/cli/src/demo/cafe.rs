@@ -1,6 +1,6 @@
-//! The bundled café for the demos (docs/design.md §8): where its files are, the demos' render
+//! The bundled café for the demos (docs/design/workflow.md §8): where its files are, the demos' render
 //! settings, and its source views rendered with the lens writer and the tagger (EXR, tagged PNG
-//! and rays under the view names of docs/design.md §4.3).
+//! and rays under the view names of docs/design/mcc.md §4.3).
 
 use crate::args::Resolution;
 use crate::progress::Bars;

@@ -1,4 +1,4 @@
-//! Label images for the animation demo (docs/design.md §4.5, collages): the last key's mask, made
+//! Label images for the animation demo (docs/design/mcc.md §4.5, collages): the last key's mask, made
 //! here, and the bundled mask and regions brought to the views' size without new colours.
 
 use anyhow::bail;

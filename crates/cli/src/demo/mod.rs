@@ -1,4 +1,4 @@
-//! `mcctrace demo`: the whole workflow on the bundled café (docs/design.md §8), every picture
+//! `mcctrace demo`: the whole workflow on the bundled café (docs/design/workflow.md §8), every picture
 //! written to one folder. [`still`] is the main job (two views, a collage, a remap, the
 //! rerender); [`animation`] the keyframe workflow (two key collages in-betweened into a shot);
 //! both render the café's views as [`cafe`] does and cut label images as [`masks`] does.

@@ -1,4 +1,4 @@
-//! The demo's main job on the bundled café (docs/design.md §8's workflow end to end): render
+//! The demo's main job on the bundled café (docs/design/workflow.md §8's workflow end to end): render
 //! the two facing views with the lens writer and tagger, compose the bundled collage mask, remap
 //! it (with its region image), rerender, and write every picture to one folder.
 

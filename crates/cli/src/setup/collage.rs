@@ -1,4 +1,4 @@
-//! The collage inputs and remapper settings (docs/design.md §4.5, §4.6, §5) that `remap`,
+//! The collage inputs and remapper settings (docs/design/mcc.md §4.5, §4.6, §5) that `remap`,
 //! `rerender`, `keys` and the demo share, the library's [`RemapJob`] they make, and what is said
 //! about a finished remap.
 

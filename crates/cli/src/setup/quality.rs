@@ -1,4 +1,4 @@
-//! Sampling and quality arguments (docs/design.md §3.3, §3.5), shared by every command that
+//! Sampling and quality arguments (docs/design/tracer.md §3.3, §3.5), shared by every command that
 //! renders, and the library settings they make: a [`Quality`] and a [`SceneSetup`].
 
 use crate::args::{Resolution, SkyArg, Vec3Arg};

@@ -4,7 +4,7 @@
 //! Everything here is a pure function of its arguments: a pixel's result depends on nothing else,
 //! so frames are bit-identical whatever the thread count.
 
-use crate::lanes::{half_angle, perpendicular, select, select3, sin_cos};
+use crate::lanes::{avx2_twins, half_angle, perpendicular, select, select3, sin_cos};
 use crate::ray_file::StoredRay;
 use glam::{DVec3, Vec3};
 
@@ -119,27 +119,6 @@ pub(super) fn smooth(a: &StoredRay, b: &StoredRay, ma: &StoredRay, mb: &StoredRa
     StoredRay { origin, direction: select3(good, n * (1.0 / select(good, n2, 1.0).sqrt()), da) }
 }
 
-/// [`smooth`] over a row (all slices as long as `out`). The loop vectorises (SSE2, or AVX2
-/// where the CPU has it: chosen at run time). Both are the same IEEE operations lane by lane —
-/// no FMA is enabled, and Rust never contracts `a * b + c` — so a pixel's bits do not depend
-/// on the CPU features, its position in the row, or the thread that computes it.
-pub(super) fn smooth_row(
-    a: &[StoredRay],
-    b: &[StoredRay],
-    ma: &[StoredRay],
-    mb: &[StoredRay],
-    h: Hermite,
-    out: &mut [StoredRay],
-) {
-    #[cfg(target_arch = "x86_64")]
-    if crate::lanes::has_avx2() {
-        // SAFETY: the CPU has AVX2 (checked just above).
-        unsafe { smooth_row_avx2(a, b, ma, mb, h, out) };
-        return;
-    }
-    smooth_row_baseline(a, b, ma, mb, h, out);
-}
-
 #[inline(always)]
 fn smooth_row_body(
     a: &[StoredRay],
@@ -154,28 +133,15 @@ fn smooth_row_body(
     }
 }
 
-pub(super) fn smooth_row_baseline(
-    a: &[StoredRay],
-    b: &[StoredRay],
-    ma: &[StoredRay],
-    mb: &[StoredRay],
-    h: Hermite,
-    out: &mut [StoredRay],
-) {
-    smooth_row_body(a, b, ma, mb, h, out);
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-pub(super) fn smooth_row_avx2(
-    a: &[StoredRay],
-    b: &[StoredRay],
-    ma: &[StoredRay],
-    mb: &[StoredRay],
-    h: Hermite,
-    out: &mut [StoredRay],
-) {
-    smooth_row_body(a, b, ma, mb, h, out);
+avx2_twins! {
+    /// [`smooth`] over a row (all slices as long as `out`). The loop vectorises (SSE2, or AVX2
+    /// where the CPU has it: chosen at run time). Both are the same IEEE operations lane by lane —
+    /// no FMA is enabled, and Rust never contracts `a * b + c` — so a pixel's bits do not depend
+    /// on the CPU features, its position in the row, or the thread that computes it.
+    pub(super) fn smooth_row | smooth_row_baseline | smooth_row_avx2(
+        a: &[StoredRay], b: &[StoredRay], ma: &[StoredRay], mb: &[StoredRay],
+        h: Hermite, out: &mut [StoredRay],
+    ) => smooth_row_body
 }
 
 #[cfg(test)]

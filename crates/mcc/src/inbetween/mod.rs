@@ -1,8 +1,8 @@
-//! The in-betweener (docs/design.md §7): keyframe ray files in, one ray file per animation frame
+//! The in-betweener (docs/design/workflow.md §7): keyframe ray files in, one ray file per animation frame
 //! out.
 //!
 //! Keys are (frame, ray file) pairs. Every key is first brought to the output resolution (given,
-//! or the earliest key's) with the lens reader's rule ([`RaySampler`], docs/design.md §6: a key
+//! or the earliest key's) with the lens reader's rule ([`RaySampler`], docs/design/workflow.md §6: a key
 //! already at that size is kept bit for bit); keys need share no cameras, they are only rays. A
 //! frame's ray at pixel p is then interpolated from the keys' rays at p:
 //!
@@ -462,7 +462,7 @@ fn rename(e: MccError, what: String) -> MccError {
     }
 }
 
-/// The rays of `file` at `resolution` by the lens reader's rule (docs/design.md §6), sampled at the
+/// The rays of `file` at `resolution` by the lens reader's rule (docs/design/workflow.md §6), sampled at the
 /// output pixel centres; a file already at that size is returned as it is (the rule is exact
 /// there).
 fn resample(file: RayFile, resolution: UVec2) -> Result<Vec<StoredRay>> {

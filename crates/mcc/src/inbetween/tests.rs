@@ -1,4 +1,4 @@
-//! Tests of the in-betweener (docs/design.md §7).
+//! Tests of the in-betweener (docs/design/workflow.md §7).
 
 use super::*;
 use crate::test_util::{Rng, scratch_dir};

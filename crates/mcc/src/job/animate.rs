@@ -1,4 +1,4 @@
-//! An animation rendered through per-frame ray files (docs/design.md §6 lens reader, §8
+//! An animation rendered through per-frame ray files (docs/design/workflow.md §6 lens reader, §8
 //! workflow; `animate`, the animation demo). Every frame is an independent unit of work: any
 //! sub-range renders alone, and a frame is skipped only when it is finished by
 //! `tracer::job::check_finished`'s rule (docs/farm.md: EXR and PNG there and whole, the same

@@ -1,6 +1,6 @@
 //! The column's keyframe workflow (docs/design.md §5, §7, §8; `keys`, the animation demo): one
 //! collage per key frame, each remapped against that frame's source views
-//! (`frameFFFFcameraCC.mcr`, docs/design.md §4.3) by [`RemapJob`], then in-betweened into one
+//! (`frameFFFFcameraCC.mcr`, docs/design/mcc.md §4.3) by [`RemapJob`], then in-betweened into one
 //! ray file per frame ([`Inbetween`]). Skipped when those files are finished for the same keys,
 //! views and settings ([`KeysRecord`], docs/farm.md).
 

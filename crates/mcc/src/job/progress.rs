@@ -1,4 +1,4 @@
-//! How a job reports as it goes (docs/design.md §8: long work shows progress; the libraries never
+//! How a job reports as it goes (docs/design/workflow.md §8: long work shows progress; the libraries never
 //! print): the stages of the render under way through [`tracer::render::Progress`], and what the
 //! job did or found as events of its own type, which the caller words (or ignores).
 

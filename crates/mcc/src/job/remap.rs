@@ -1,4 +1,4 @@
-//! A collage remapped from files (docs/design.md §4.5, §4.6, §5): the collage read against the
+//! A collage remapped from files (docs/design/mcc.md §4.5, §4.6, §5): the collage read against the
 //! frame's view ray files, its regions found, the rays loaded one file at a time, the remapper
 //! run, and its debug pictures written.
 

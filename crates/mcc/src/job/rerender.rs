@@ -1,4 +1,4 @@
-//! The scene rendered through a collage's rays (docs/design.md §6, §8): the lens reader
+//! The scene rendered through a collage's rays (docs/design/workflow.md §6, §8): the lens reader
 //! replaces every eye ray with one from a ray file, in memory or on disk, at any output
 //! resolution, and the overscan border the views were rendered with can be cut off; one band of
 //! the output (`--tile I/N`, docs/farm.md) renders alone, and finished outputs are told from
@@ -21,11 +21,11 @@ use tracer::render::{Progress, Rendered};
 
 /// What the EXR header names as the camera of a rerender.
 const CAMERA: &str = "multicamera collage";
-/// EXR header key of the collage a rerender's rays were remapped from (docs/design.md §3.6).
+/// EXR header key of the collage a rerender's rays were remapped from (docs/design/tracer.md §3.6).
 pub const COLLAGE_KEY: &str = "mcctrace/collage";
-/// EXR header key of the ray file a rerender read (docs/design.md §3.6).
+/// EXR header key of the ray file a rerender read (docs/design/tracer.md §3.6).
 pub const LENS_FILE_KEY: &str = "mcctrace/lens_file";
-/// EXR header key of the folder of per-frame ray files an animation read (docs/design.md §3.6).
+/// EXR header key of the folder of per-frame ray files an animation read (docs/design/tracer.md §3.6).
 pub const LENS_DIR_KEY: &str = "mcctrace/lens_dir";
 
 /// The camera of a render through the lens reader: it only carries the film size, since the

@@ -22,9 +22,10 @@ pub mod psd;
 #[cfg(test)]
 mod tests;
 
-use crate::collage::{Collage, CollageOptions, StrayReport};
+use crate::collage::{Collage, CollageOptions};
 use crate::error::{MccError, Result};
 use crate::regions::{RegionInfo, Regions};
+use crate::stray::StrayReport;
 pub use naming::{CameraNames, Role};
 use std::io::Read;
 use std::path::{Path, PathBuf};

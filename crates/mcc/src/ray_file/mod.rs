@@ -1,4 +1,4 @@
-//! Ray files (docs/design.md §4.2): one eye ray (origin, unit direction) per pixel of a view or of
+//! Ray files (docs/design/mcc.md §4.2): one eye ray (origin, unit direction) per pixel of a view or of
 //! a rerender.
 //!
 //! Two encodings, told apart by the content (never by the file name):
@@ -120,7 +120,7 @@ pub enum RayFormat {
 }
 
 impl RayFormat {
-    /// The file extension docs/design.md §4.3 names give this encoding (without the dot).
+    /// The file extension docs/design/mcc.md §4.3 names give this encoding (without the dot).
     pub fn extension(self) -> &'static str {
         match self {
             RayFormat::Binary => "mcr",
@@ -183,7 +183,7 @@ impl RayFile {
         &self.rays[j as usize * self.width as usize + i as usize]
     }
 
-    /// The rays without a border of `n` pixels on each side (an overscan cut off, docs/design.md
+    /// The rays without a border of `n` pixels on each side (an overscan cut off, docs/design/workflow.md
     /// §8); `None` when the border leaves no pixel.
     pub fn without_border(&self, n: u32) -> Option<Self> {
         if 2 * n as u64 >= self.width.min(self.height) as u64 {

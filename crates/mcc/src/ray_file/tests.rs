@@ -1,4 +1,4 @@
-//! Tests of the ray-file encodings (docs/design.md §4.2): round trips and every malformed case.
+//! Tests of the ray-file encodings (docs/design/mcc.md §4.2): round trips and every malformed case.
 
 use super::*;
 use crate::test_util::{Rng, scratch_dir};

@@ -1,4 +1,4 @@
-//! Step 5 of the remapper (docs/design.md §5.5): rays. A camera pixel of camera c gets exactly
+//! Step 5 of the remapper (docs/design/mcc.md §5.5): rays. A camera pixel of camera c gets exactly
 //! R_c(p), bit for bit. A background pixel P gets the origin Σ_c α_c·A_c(e_c(P)) and the direction
 //! by *burp* (Glassner's "bilinear uniform repeated" interpolation): order the cameras with α > 0
 //! by ascending id, p_0 … p_{n−1} their directions D_c(e_c(P)); r_{n−1} = p_{n−1};
@@ -7,7 +7,7 @@
 //! and no step yields NaN; α_k / β_k ≤ 1 because β_k ≥ α_k.
 
 use super::nearest::NearestEdges;
-use crate::lanes::{has_avx2, select, select3};
+use crate::lanes::{avx2_twins, select, select3};
 use crate::ray_file::StoredRay;
 use crate::slerp::{NLERP_CHORD_SQUARED, along, arc, nlerp, slerp};
 use glam::Vec3;
@@ -186,21 +186,15 @@ fn burp_row_body(y: usize, row: &mut [StoredRay], columns: &mut Columns, inputs:
     }
 }
 
-/// [`burp_row_body`] compiled for baseline x86-64 (SSE2: each step of eight lanes is two
-/// vectors).
-fn burp_row_baseline(y: usize, row: &mut [StoredRay], columns: &mut Columns, inputs: Inputs) {
-    burp_row_body(y, row, columns, inputs);
-}
-
-/// [`burp_row_body`] compiled with AVX2 (each step one vector). The same IEEE operations as the
-/// baseline's (no FMA), so the same bits.
-///
-/// # Safety
-/// The CPU must have AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn burp_row_avx2(y: usize, row: &mut [StoredRay], columns: &mut Columns, inputs: Inputs) {
-    burp_row_body(y, row, columns, inputs);
+avx2_twins! {
+    /// [`burp_row_body`] at the CPU's level: baseline x86-64 (SSE2: each step of eight lanes is
+    /// two vectors) or AVX2 (each step one vector), the same bits.
+    fn burp_row | burp_row_baseline | burp_row_avx2(
+        y: usize,
+        row: &mut [StoredRay],
+        columns: &mut Columns,
+        inputs: Inputs,
+    ) => burp_row_body
 }
 
 /// The remapped rays of every pixel, and (when `dominant` is asked for) the camera index with
@@ -217,17 +211,9 @@ pub(crate) fn remapped_rays(
     dominant: bool,
 ) -> (Vec<StoredRay>, Option<Vec<u32>>) {
     let mut rays = vec![StoredRay::default(); cam.len()];
-    let avx2 = has_avx2();
     let inputs = Inputs { cam, sources, nearest, planes };
     rays.par_chunks_mut(width).enumerate().for_each_init(Columns::new, |columns, (y, row)| {
-        #[cfg(target_arch = "x86_64")]
-        if avx2 {
-            // SAFETY: the CPU has AVX2 (`has_avx2`).
-            unsafe { burp_row_avx2(y, row, columns, inputs) };
-            return;
-        }
-        let _ = avx2;
-        burp_row_baseline(y, row, columns, inputs);
+        burp_row(y, row, columns, inputs);
     });
     (rays, dominant.then(|| self::dominant(cam, planes)))
 }

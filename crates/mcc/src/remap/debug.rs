@@ -1,7 +1,7 @@
-//! The remapper's debug pictures (docs/design.md §5.6): per camera an edge image and a weight
+//! The remapper's debug pictures (docs/design/mcc.md §5.6): per camera an edge image and a weight
 //! image, and a false-colour map of which camera dominates each pixel. They show what steps 1–4
 //! decided, so a surprising rerender can be traced to an edge, a region or a weight. A map of the
-//! seam ratio ([`super::seam`], docs/design.md §5.8) shows where the result tears.
+//! seam ratio ([`super::seam`], docs/design/mcc.md §5.8) shows where the result tears.
 
 use crate::error::Result;
 use image::{DynamicImage, GrayImage, Luma, Rgb, RgbImage};

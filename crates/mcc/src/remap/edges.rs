@@ -1,4 +1,4 @@
-//! Step 1 of the remapper (docs/design.md §5.1): a pixel p with camera c ≠ 0 is an *edge pixel of
+//! Step 1 of the remapper (docs/design/mcc.md §5.1): a pixel p with camera c ≠ 0 is an *edge pixel of
 //! c* if it lies on the outermost border of the image or if any of its 8 neighbours has another
 //! camera (a background neighbour included). Background pixels are never edges.
 

@@ -1,4 +1,4 @@
-//! One camera's smooth ray field for the seamless blend (docs/design.md §5.8): the camera's
+//! One camera's smooth ray field for the seamless blend (docs/design/mcc.md §5.8): the camera's
 //! edge rays extended over every other pixel by the membrane ([`super::membrane`]), in place of
 //! the column's nearest edge ray, whose choice jumps across medial axes.
 //!
@@ -16,7 +16,7 @@ use rayon::prelude::*;
 use std::ops::Range;
 
 /// Relative residual at which the membrane solves stop. What error is left is smooth: it bends
-/// the field by far less than a pixel's step (docs/design.md §5.8).
+/// the field by far less than a pixel's step (docs/design/mcc.md §5.8).
 const TOLERANCE: f64 = 1e-4;
 /// Red–black sweeps of the membrane on the pixels after the interpolation from 2 × 2 blocks.
 const RELAX_SWEEPS: usize = 4;
@@ -96,7 +96,7 @@ impl CameraField {
 
 /// The solvers the fields of one picture share (their buffers are reused camera after camera).
 /// Each field is solved on the grid of 2 × 2 blocks, interpolated bilinearly and relaxed on the
-/// pixels (docs/design.md §5.8).
+/// pixels (docs/design/mcc.md §5.8).
 pub(crate) struct FieldSolvers {
     width: usize,
     height: usize,
@@ -190,7 +190,7 @@ const RIDGE: f64 = 1e-3;
 /// pixels (`value` is `Some` at them): their mean when the block is all the camera's, else the
 /// least-squares plane through those of the 4 × 4 pixels around the block, at its centre. A
 /// coarse cell's value stands for its centre: the mean of a partial block's pixels would
-/// misplace the camera's border by up to a pixel, and the membrane with it (docs/design.md §5.8).
+/// misplace the camera's border by up to a pixel, and the membrane with it (docs/design/mcc.md §5.8).
 fn centre_value<const K: usize>(
     b: usize,
     cw: usize,
@@ -341,7 +341,7 @@ mod tests {
     fn the_block_solve_stays_near_the_membrane_on_the_pixels() {
         // Two discs and a ring of camera 1 (medial axes between and inside them) with a curved
         // field of directions and of origins: the block solve against the membrane solved on
-        // the pixels themselves (the definition, docs/design.md §5.8). The blocks put the
+        // the pixels themselves (the definition, docs/design/mcc.md §5.8). The blocks put the
         // camera's border up to half a pixel off, which bends a curved field smoothly far from
         // it: within one pitch in angle and one origins' step, not the tenth the ring allows.
         let (w, h) = (160, 120);

@@ -1,4 +1,4 @@
-//! The lens remapper (docs/design.md §5): turns a decoded collage, its regions and the views' ray
+//! The lens remapper (docs/design/mcc.md §5): turns a decoded collage, its regions and the views' ray
 //! files into one ray per pixel. Camera pixels keep their camera's ray bit for bit; background
 //! pixels get a ray blended from the nearest edge pixels of every camera:
 //!
@@ -27,36 +27,38 @@ pub(crate) mod edges;
 pub(crate) mod field;
 pub(crate) mod membrane;
 pub(crate) mod nearest;
+pub(crate) mod planes;
 pub mod seam;
 pub(crate) mod seamless;
 pub(crate) mod smooth;
+pub mod warning;
 pub mod weights;
 
 pub use debug::RemapDebug;
 pub use seam::{SeamRatios, SeamSummary};
+pub use warning::RemapWarning;
 
-use crate::collage::{Collage, StrayReport};
+use crate::collage::Collage;
 use crate::error::{MccError, Result};
 use crate::ray_file::{RayFile, StoredRay};
-use crate::regions::{RegionInfo, Regions};
+use crate::regions::Regions;
 use rayon::prelude::*;
 use std::borrow::Borrow;
 use std::collections::{BTreeMap, BTreeSet};
-use std::fmt;
 use std::path::{Path, PathBuf};
 
 /// How background pixels blend the cameras.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Blend {
-    /// The column's method (docs/design.md §5): nearest edge rays, distance weights, blurs and ease.
+    /// The column's method (docs/design/mcc.md §5): nearest edge rays, distance weights, blurs and ease.
     #[default]
     Glassner,
     /// Smooth per-camera ray fields and fading region participation: removes the column's seams
-    /// (docs/design.md §5.8). Ignores the blur radii and the ease.
+    /// (docs/design/mcc.md §5.8). Ignores the blur radii and the ease.
     Seamless,
 }
 
-/// Remapper settings (docs/design.md §5.4); [`RemapConfig::GLASSNER`] is the default.
+/// Remapper settings (docs/design/mcc.md §5.4); [`RemapConfig::GLASSNER`] is the default.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RemapConfig {
     /// How background pixels blend the cameras.
@@ -113,46 +115,6 @@ impl RemapConfig {
 impl Default for RemapConfig {
     fn default() -> Self {
         Self::GLASSNER
-    }
-}
-
-/// Something the remapper wants the user to know, without failing.
-#[derive(Clone, Debug, PartialEq)]
-pub enum RemapWarning {
-    /// A region with background pixels holds no edge pixel of any camera: every camera took part.
-    RegionWithoutCameras {
-        /// Region index.
-        region: u32,
-        /// Its colour and first pixel.
-        info: RegionInfo,
-        /// How many background pixels it has.
-        background_pixels: usize,
-    },
-    /// Stray collage pixels were treated as background (by request).
-    StraysIgnored(StrayReport),
-    /// Something about a layered collage's layers (e.g. one too transparent to take a pixel).
-    Layers(String),
-    /// The collage has no background pixel: nothing is blended, every pixel keeps its view's
-    /// ray, which a collage is rarely meant to do.
-    NoBackground,
-}
-
-impl fmt::Display for RemapWarning {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Self::RegionWithoutCameras { region, info, background_pixels } => write!(
-                f,
-                "region {region} ({info}) touches no camera: its {background_pixels} background pixel(s) \
-                 blend all cameras"
-            ),
-            Self::StraysIgnored(report) => write!(f, "treated as background: {report}"),
-            Self::Layers(note) => write!(f, "{note}"),
-            Self::NoBackground => write!(
-                f,
-                "has no background pixel: every pixel is a camera's, so nothing is blended and each keeps \
-                 its view's ray; erase (or paint black) where the views should blend"
-            ),
-        }
     }
 }
 
@@ -262,19 +224,6 @@ fn missing(id: u32) -> MccError {
     MccError::input(format!("camera {id}"), "the collage uses this camera but no ray file was given for it")
 }
 
-/// Splits per-camera planes into rows: `rows[y][k]` is row y of plane k (for row-parallel passes
-/// that touch every camera at a pixel).
-pub(crate) fn rows_mut(planes: &mut [Vec<f32>], width: usize) -> Vec<Vec<&mut [f32]>> {
-    let height = planes.first().map_or(0, |p| p.len() / width.max(1));
-    let mut rows: Vec<Vec<&mut [f32]>> = (0..height).map(|_| Vec::with_capacity(planes.len())).collect();
-    for plane in planes.iter_mut() {
-        for (row, chunk) in rows.iter_mut().zip(plane.chunks_exact_mut(width)) {
-            row.push(chunk);
-        }
-    }
-    rows
-}
-
 /// Remaps a collage with the views' ray files in memory (camera id → file, owned or borrowed).
 /// See [`remap_sources`].
 pub fn remap<F: Borrow<RayFile>>(
@@ -287,7 +236,7 @@ pub fn remap<F: Borrow<RayFile>>(
     remap_sources(collage, regions, &SourceRays::gather(collage, files)?, frame, config)
 }
 
-/// Remaps a collage (docs/design.md §5): the returned rays are frame `frame`'s rerender rays.
+/// Remaps a collage (docs/design/mcc.md §5): the returned rays are frame `frame`'s rerender rays.
 pub fn remap_sources(
     collage: &Collage,
     regions: &Regions,

@@ -1,4 +1,4 @@
-//! Step 2 of the remapper (docs/design.md §5.2): for every background pixel P and camera c, e_c(P)
+//! Step 2 of the remapper (docs/design/mcc.md §5.2): for every background pixel P and camera c, e_c(P)
 //! is the nearest edge pixel of c in P's region (Euclidean distance between pixel centres; ties to
 //! the smallest row y, then the smallest column x). If c has no edge pixel in that region, c does
 //! not participate at P and e_c(P) is the nearest edge pixel of c anywhere.

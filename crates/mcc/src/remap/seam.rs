@@ -1,4 +1,4 @@
-//! The seam ratio (docs/design.md §5.8): how abruptly a remapped ray field turns at each
+//! The seam ratio (docs/design/mcc.md §5.8): how abruptly a remapped ray field turns at each
 //! background pixel, compared with how it turns around that pixel.
 //!
 //! For a pixel p with a right neighbour, s_x(p) is the angle between their directions; s_y(p)

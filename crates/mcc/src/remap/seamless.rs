@@ -1,4 +1,4 @@
-//! The seamless blend ([`super::Blend::Seamless`], docs/design.md §5.8): the column's blend
+//! The seamless blend ([`super::Blend::Seamless`], docs/design/mcc.md §5.8): the column's blend
 //! of every camera's ray by distance weights and burp, with the two sources of its tears
 //! replaced.
 //!
@@ -20,10 +20,10 @@
 //! per camera (two when its origins differ), one fade per set of regions, each linear in the
 //! pixel count.
 
-use super::RemapWarning;
 use super::field::FieldSolvers;
 use super::nearest::{RegionBoxes, nearest_edges};
 use super::smooth::{Scratch, box_blur};
+use super::warning::RemapWarning;
 use crate::ray_file::StoredRay;
 use crate::regions::Regions;
 use crate::slerp::slerp;
@@ -130,7 +130,7 @@ fn weight_planes(
     let nearest = nearest_edges(cam, edges, &whole, &boxes, cameras, width, height);
     drop(whole);
     let mut planes = vec![vec![0f32; cam.len()]; cameras];
-    let rows = super::rows_mut(&mut planes, width);
+    let rows = super::planes::rows_mut(&mut planes, width);
     rows.into_par_iter().enumerate().for_each_init(
         || vec![0f64; cameras],
         |v, (y, mut row)| {

@@ -1,4 +1,4 @@
-//! Step 4 of the remapper (docs/design.md §5.4): smoothing. Each camera's weight plane separately
+//! Step 4 of the remapper (docs/design/mcc.md §5.4): smoothing. Each camera's weight plane separately
 //! and double-buffered (every output reads only the previous plane), rewriting background pixels
 //! only (camera pixels keep exactly their 0/1 weights):
 //!
@@ -10,7 +10,7 @@
 //!
 //! The ease curve is Perlin's gain, the column's "ease curve with control value 0.75":
 //! ease(t) = (2t)^k / 2 for t < ½ and 1 − (2 − 2t)^k / 2 otherwise, k = log₂(1 / (1 − g)).
-//! With g = 0.75, k = 2: ease(t) = 2t² below ½, 1 − 2(1 − t)² above (the form of docs/design.md
+//! With g = 0.75, k = 2: ease(t) = 2t² below ½, 1 − 2(1 − t)² above (the form of docs/design/mcc.md
 //! §5.4, computed exactly); g = 0.5 is the identity.
 //!
 //! The blur is separable and runs in constant time per pixel whatever the radius: prefix sums
@@ -19,7 +19,7 @@
 //! values leaves no drift worth the name; the clipped window is the product of its clipped row and
 //! column extents, which is the count to divide by.
 
-use crate::lanes::has_avx2;
+use crate::lanes::avx2_twins;
 use rayon::prelude::*;
 
 /// The ease curve with control `g` ∈ (0, 1) (see the module notes).
@@ -90,14 +90,7 @@ pub(crate) fn box_blur(
         dst.copy_from_slice(src);
         return;
     }
-    let blur = Blur { src, dst, background, width, height, radius };
-    #[cfg(target_arch = "x86_64")]
-    if has_avx2() {
-        // SAFETY: the CPU has AVX2 (`has_avx2`).
-        unsafe { box_blur_avx2(blur, scratch) };
-        return;
-    }
-    box_blur_body(blur, scratch);
+    box_blur_at_level(Blur { src, dst, background, width, height, radius }, scratch);
 }
 
 /// One blur's planes and sizes.
@@ -110,14 +103,9 @@ struct Blur<'a> {
     radius: usize,
 }
 
-/// [`box_blur_body`] compiled with AVX2: the same IEEE operations (no FMA), the same bits.
-///
-/// # Safety
-/// The CPU must have AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn box_blur_avx2(blur: Blur, scratch: &mut Scratch) {
-    box_blur_body(blur, scratch);
+avx2_twins! {
+    /// [`box_blur_body`] at the CPU's level.
+    fn box_blur_at_level | box_blur_baseline | box_blur_avx2(blur: Blur, scratch: &mut Scratch) => box_blur_body
 }
 
 /// [`box_blur`] for a radius above 0.
@@ -278,7 +266,7 @@ pub(crate) fn smooth(
             smooth_plane(plane, background, width, height, radii, ease, &mut scratch);
         }
     });
-    let rows = super::rows_mut(planes, width);
+    let rows = super::planes::rows_mut(planes, width);
     rows.into_par_iter().enumerate().for_each(|(y, mut row)| {
         for x in 0..width {
             if !background[y * width + x] {

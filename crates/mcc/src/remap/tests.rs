@@ -1,4 +1,4 @@
-//! End-to-end tests of the remapper (docs/design.md §5) on small collages.
+//! End-to-end tests of the remapper (docs/design/mcc.md §5) on small collages.
 
 use super::*;
 use crate::test_util::{Rng, view};
@@ -235,7 +235,7 @@ fn fingerprint(rays: &[StoredRay]) -> u64 {
 fn the_columns_blend_is_unchanged_bit_for_bit() {
     // The default blend's output on a fixed collage with regions, three cameras (two facing each
     // other) and holes, recorded from the remapper before the seamless blend existed (commit
-    // c39ba49): the default must stay bit-identical (docs/design.md §5.8).
+    // c39ba49): the default must stay bit-identical (docs/design/mcc.md §5.8).
     let mut rng = Rng::new(2028);
     let (w, h) = (48, 32);
     let ids = [1, 2, 4];

@@ -1,4 +1,4 @@
-//! Step 3 of the remapper (docs/design.md §5.3): initial weights. A camera pixel of camera c gets
+//! Step 3 of the remapper (docs/design/mcc.md §5.3): initial weights. A camera pixel of camera c gets
 //! α_c = 1 and every other α = 0. A background pixel P with participants S (the cameras with an
 //! edge pixel in P's region; all cameras if none has, with a warning naming the region) gets
 //!
@@ -13,9 +13,9 @@
 //! whose nearest edge pixels are other pixels, but the function is public) is handled exactly:
 //! one camera at distance 0 takes α = 1, the limit of the formula; several share equally.
 
-use super::RemapWarning;
 use super::nearest::NearestEdges;
-use crate::lanes::has_avx2;
+use super::warning::RemapWarning;
+use crate::lanes::avx2_twins;
 use crate::regions::Regions;
 use rayon::prelude::*;
 
@@ -206,19 +206,14 @@ fn weights_row_body(y: usize, row: &mut [&mut [f32]], scratch: &mut RowScratch, 
     scratch.columns = columns;
 }
 
-/// [`weights_row_body`] compiled for baseline x86-64.
-fn weights_row_baseline(y: usize, row: &mut [&mut [f32]], scratch: &mut RowScratch, inputs: Inputs) {
-    weights_row_body(y, row, scratch, inputs);
-}
-
-/// [`weights_row_body`] compiled with AVX2: the same IEEE operations (no FMA), the same bits.
-///
-/// # Safety
-/// The CPU must have AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn weights_row_avx2(y: usize, row: &mut [&mut [f32]], scratch: &mut RowScratch, inputs: Inputs) {
-    weights_row_body(y, row, scratch, inputs);
+avx2_twins! {
+    /// [`weights_row_body`] at the CPU's level.
+    fn weights_row | weights_row_baseline | weights_row_avx2(
+        y: usize,
+        row: &mut [&mut [f32]],
+        scratch: &mut RowScratch,
+        inputs: Inputs,
+    ) => weights_row_body
 }
 
 /// The initial weight planes (one per camera index, f32): rows in parallel, every plane's row
@@ -232,18 +227,10 @@ pub(crate) fn initial_weights(
     width: usize,
 ) -> Vec<Vec<f32>> {
     let mut planes: Vec<Vec<f32>> = (0..cameras).map(|_| vec![0f32; cam.len()]).collect();
-    let rows = super::rows_mut(&mut planes, width);
+    let rows = super::planes::rows_mut(&mut planes, width);
     let inputs = Inputs { cam, region, nearest, participants, width };
-    let avx2 = has_avx2();
     rows.into_par_iter().enumerate().for_each_init(RowScratch::default, |scratch, (y, mut row)| {
-        #[cfg(target_arch = "x86_64")]
-        if avx2 {
-            // SAFETY: the CPU has AVX2 (`has_avx2`).
-            unsafe { weights_row_avx2(y, &mut row, scratch, inputs) };
-            return;
-        }
-        let _ = avx2;
-        weights_row_baseline(y, &mut row, scratch, inputs);
+        weights_row(y, &mut row, scratch, inputs);
     });
     planes
 }

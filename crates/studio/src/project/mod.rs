@@ -20,8 +20,8 @@ mod save;
 pub use final_render::start_final;
 pub use save::{key_collage, save};
 
-use crate::Config;
 use crate::camera::StudioCamera;
+use crate::config::Config;
 use crate::engine::Shared;
 use crate::error::{Result, StudioError};
 use crate::maps::Maps;
@@ -197,7 +197,7 @@ pub fn open_session(config: &Config) -> Result<Shared> {
         }
         None => open_project(&project)?,
     };
-    let engine = crate::EngineSettings { ..config.engine };
+    let engine = crate::engine::EngineSettings { ..config.engine };
     let shared = Shared::new(session, source, engine, project)?;
     autosave::offer(&shared);
     Ok(shared)

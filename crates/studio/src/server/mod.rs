@@ -6,7 +6,7 @@ mod guard;
 mod handle;
 mod socket;
 
-use crate::Config;
+use crate::config::Config;
 use crate::engine::{Shared, start_worker};
 use crate::error::{Result, StudioError};
 use axum::Router;

@@ -1,4 +1,4 @@
-//! Cameras: map a film position and a lens sample to a world-space eye ray (docs/design.md §3.8).
+//! Cameras: map a film position and a lens sample to a world-space eye ray (docs/design/tracer.md §3.8).
 //! Film positions are continuous pixel coordinates, x right, y down, origin at the top-left corner;
 //! pixel (i, j) covers [i, i+1) × [j, j+1) and its centre is (i + ½, j + ½).
 //!

@@ -1,5 +1,5 @@
 //! Overscan: a camera's film enlarged by a border of N pixels on every side, continuing the
-//! same projection (docs/design.md §3.8, `render --overscan N`). Pixel (i + N, j + N) of the
+//! same projection (docs/design/tracer.md §3.8, `render --overscan N`). Pixel (i + N, j + N) of the
 //! enlarged film is exactly pixel (i, j) of the original, so cropping N pixels gives the original
 //! view back. Works for every model, since it only shifts film positions; for models with an edge
 //! (the fisheye's circle, the panorama's poles) the border shows what the model gives there.

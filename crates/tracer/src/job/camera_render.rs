@@ -1,4 +1,4 @@
-//! One camera's render (docs/design.md §3.8): a prepared scene seen through a camera and its lens
+//! One camera's render (docs/design/tracer.md §3.8): a prepared scene seen through a camera and its lens
 //! chain at a frame, with progress and cancellation.
 
 use super::Quality;

@@ -1,4 +1,4 @@
-//! A finished render written out (docs/design.md §3.6): linear EXR with the settings in its header
+//! A finished render written out (docs/design/tracer.md §3.6): linear EXR with the settings in its header
 //! and optional AOV layers, and an sRGB PNG preview beside it, both atomically.
 
 use super::{Band, EnvironmentImage, Quality, SceneSetup};

@@ -1,4 +1,4 @@
-//! Quality settings of a render (docs/design.md §3.3, §3.5): how many samples, which seed, how deep
+//! Quality settings of a render (docs/design/tracer.md §3.3, §3.5): how many samples, which seed, how deep
 //! the paths go, and what the film records.
 
 use crate::error::Result;

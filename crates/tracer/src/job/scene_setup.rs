@@ -1,4 +1,4 @@
-//! Scene set-up for rendering (docs/design.md §3.1): a scene file loaded with the environment,
+//! Scene set-up for rendering (docs/design/tracer.md §3.1): a scene file loaded with the environment,
 //! sky, exposure and spot-light falloff the user chose in place of the file's, and an animated
 //! scene posed at frame / fps seconds (a static one is used as loaded, with no rebuild). A scene
 //! that nothing lights gets a warning saying how to light it.

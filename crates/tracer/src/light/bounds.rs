@@ -1,5 +1,5 @@
 //! Spatial and directional bounds of one light or a cluster of lights, and the importance of
-//! such a cluster for a receiving point (docs/design.md §3.3; Conty & Kulla 2018, "Importance
+//! such a cluster for a receiving point (docs/design/tracer.md §3.3; Conty & Kulla 2018, "Importance
 //! Sampling of Many Lights with Adaptive Tree Splitting"; pbrt-v4 `LightBounds`): a box, a
 //! bound on the radiant intensity, and a cone of emission normals — axis `w`, spread θo of the
 //! normals, θe beyond the normals over which light still leaves (π/2 for a surface).

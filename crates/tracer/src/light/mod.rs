@@ -1,4 +1,4 @@
-//! Light sampling for next-event estimation (docs/design.md §3.3): one light is chosen for the
+//! Light sampling for next-event estimation (docs/design/tracer.md §3.3): one light is chosen for the
 //! receiving point, then a point (or direction) on it. Emissive triangles and punctual lights
 //! (point, spot) are chosen through a light tree (`tree.rs`) by their importance to the
 //! receiver's position and normal (`bounds.rs`); directional lights and the environment image,

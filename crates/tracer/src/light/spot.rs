@@ -1,6 +1,6 @@
 //! Spot lights (`KHR_lights_punctual` spot): a point light whose intensity fades from the inner
 //! to the outer cone, by Blender Cycles' falloff (what Blender-exported scenes were lit with) or
-//! the glTF specification's recommended one (docs/design.md §3.10).
+//! the glTF specification's recommended one (docs/design/tracer.md §3.10).
 
 use super::bounds::{LightBounds, cos_down};
 use crate::scene::SpotFalloff;
@@ -113,7 +113,7 @@ fn perpendicular(d: Vec3) -> Vec3 {
 mod tests {
     use super::*;
 
-    /// Cycles' falloff at known angles of a 17°/20° cone (docs/design.md §3.10's example), and
+    /// Cycles' falloff at known angles of a 17°/20° cone (docs/design/tracer.md §3.10's example), and
     /// glTF's.
     #[test]
     fn falloff_at_known_angles() {

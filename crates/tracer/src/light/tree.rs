@@ -1,4 +1,4 @@
-//! A light BVH (docs/design.md §3.3; Conty & Kulla 2018; pbrt-v4 `BVHLightSampler`): a binary
+//! A light BVH (docs/design/tracer.md §3.3; Conty & Kulla 2018; pbrt-v4 `BVHLightSampler`): a binary
 //! tree over the scene's finite lights, one light per leaf, each node holding the
 //! [`LightBounds`] of its subtree. A light is chosen for a receiver by walking down from the
 //! root, taking each child with probability ∝ its importance there and rescaling the one

@@ -8,7 +8,8 @@
 //! may pick: v3's AVX2 and BMI, v4's 32 vector registers (so fewer spills). Each level paid for
 //! itself (docs/performance.md, ledger: "x86-64-v3 tile loop", "x86-64-v4 tile loop").
 
-use super::{PixelAccumulator, TileJob};
+use super::tile::TileJob;
+use crate::film::PixelAccumulator;
 #[cfg(test)]
 use std::sync::atomic::{AtomicU8, Ordering};
 

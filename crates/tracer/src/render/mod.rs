@@ -8,20 +8,20 @@
 //! of the first pass's film; each pixel goes on from its pilot samples' indices.
 
 use crate::adaptive;
-use crate::camera::{Camera, CameraSample};
+use crate::camera::Camera;
 use crate::error::{Result, TracerError};
 use crate::film::{Film, FilmImages, PixelAccumulator};
-use crate::integrator::{FirstHit, PathTracer};
+use crate::integrator::PathTracer;
 use crate::lens::{FrameInfo, LensChain, RayGenerator};
-use crate::sampler::{MAX_SAMPLES_PER_PIXEL, Sampler, sets};
-use glam::{UVec2, Vec2};
+use crate::sampler::MAX_SAMPLES_PER_PIXEL;
+use glam::UVec2;
 use rayon::prelude::*;
 use std::time::Instant;
 
 mod cpu;
+mod tile;
 
-/// Tile edge in pixels: big enough to amortise scheduling, small enough to balance 2+ cores.
-const TILE: u32 = 16;
+use tile::{Ends, Pass, TILE, TileJob};
 
 /// The most pixels a film may have (refused before allocating).
 pub const MAX_PIXELS: u64 = 1 << 28;
@@ -237,23 +237,6 @@ pub fn render(
     Ok(Rendered { images: film.images(), stats })
 }
 
-/// The samples one pass over the film takes: each pixel's indices `start` .. its end, added
-/// to its accumulator from `previous` if there is one (`ends` and `previous` are row-major over
-/// the pass's rows).
-struct Pass<'a> {
-    start: u32,
-    ends: Ends<'a>,
-    previous: Option<&'a [PixelAccumulator]>,
-}
-
-/// Where each pixel's samples end.
-enum Ends<'a> {
-    /// The same for every pixel.
-    All(u32),
-    /// Per pixel, row-major.
-    PerPixel(&'a [u32]),
-}
-
 /// A progress sink that passes cancellation on but reports no work: the pilot pass a band
 /// takes outside its rows.
 struct Unreported<'a>(&'a dyn Progress);
@@ -297,7 +280,7 @@ impl FilmPass<'_> {
             res,
             rows: self.rows,
             tiles_x,
-            settings,
+            seed: settings.seed,
             pass: self.pass,
             frame_time,
             shutter_length,
@@ -331,78 +314,6 @@ impl FilmPass<'_> {
             }
         }
         (pixels, rays)
-    }
-}
-
-/// Everything one tile's tracing needs (shared by all tiles of a frame).
-struct TileJob<'a> {
-    tracer: &'a PathTracer,
-    generator: &'a dyn RayGenerator,
-    res: UVec2,
-    /// The film rows traced (`start..end`); tiles are counted from `start`.
-    rows: (u32, u32),
-    tiles_x: u32,
-    settings: &'a RenderSettings,
-    pass: &'a Pass<'a>,
-    frame_time: f32,
-    shutter_length: f32,
-    /// Pinhole cameras and instantaneous shutters draw no lens or time numbers.
-    needs_lens_time: bool,
-}
-
-impl TileJob<'_> {
-    /// Traces the pass's samples of tile `tile`: its pixels' accumulators in row-major order
-    /// within the tile, the rays traced and the samples taken.
-    #[inline(always)]
-    fn trace_tile<const AOV: bool, const ALPHA: bool, const LAMBERT: bool>(
-        &self,
-        tile: u32,
-    ) -> (Vec<PixelAccumulator>, u64, u64) {
-        let (res, settings, tracer) = (self.res, self.settings, self.tracer);
-        let x0 = (tile % self.tiles_x) * TILE;
-        let y0 = self.rows.0 + (tile / self.tiles_x) * TILE;
-        let x1 = (x0 + TILE).min(res.x);
-        let y1 = (y0 + TILE).min(self.rows.1);
-        let mut out = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
-        let (mut rays, mut samples) = (0u64, 0u64);
-        let pass = self.pass;
-        for y in y0..y1 {
-            for x in x0..x1 {
-                let pixel = UVec2::new(x, y);
-                let i = ((y - self.rows.0) * res.x + x) as usize;
-                let mut acc = pass.previous.map_or_else(PixelAccumulator::default, |p| p[i]);
-                let end = match pass.ends {
-                    Ends::All(end) => end,
-                    Ends::PerPixel(ends) => ends[i],
-                };
-                samples += end.saturating_sub(pass.start) as u64;
-                for index in pass.start..end {
-                    let sampler = Sampler::new(pixel, index, settings.seed);
-                    let [jx, jy, l0, l1] = sampler.get(sets::CAMERA);
-                    let [lens_u, lens_v, u_time, _] =
-                        if self.needs_lens_time { sampler.get(sets::LENS_TIME) } else { [0.5; 4] };
-                    let sample = CameraSample {
-                        p_film: Vec2::new(x as f32 + jx, y as f32 + jy),
-                        p_lens: Vec2::new(lens_u, lens_v),
-                        time: self.frame_time + self.shutter_length * u_time,
-                    };
-                    let Some(ray) = self.generator.generate(&sample) else {
-                        acc.drop_sample();
-                        continue;
-                    };
-                    let mut first = FirstHit::default();
-                    let path =
-                        tracer.radiance::<AOV, ALPHA, LAMBERT>(ray, &sampler, Vec2::new(l0, l1), &mut first);
-                    rays += path.rays as u64;
-                    acc.add(path.radiance);
-                    if AOV {
-                        acc.add_first_hit(&first);
-                    }
-                }
-                out.push(acc);
-            }
-        }
-        (out, rays, samples)
     }
 }
 

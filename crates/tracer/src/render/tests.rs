@@ -2,7 +2,7 @@
 //! dispatch and cancellation.
 
 use super::*;
-use crate::camera::{CameraDesc, Projection};
+use crate::camera::{CameraDesc, CameraSample, Projection};
 use crate::integrator::IntegratorConfig;
 use crate::material::{AlphaMode, Material};
 use crate::scene::{MeshPart, Scene};

@@ -74,7 +74,7 @@ fn texels<T: Copy>(samples: &[T], channels: usize, opaque: T) -> Vec<[T; 4]> {
 }
 
 /// The texels of a decoded image. Integer images keep their codes ([`Texels`]); integer sRGB
-/// colour stays encoded, decoded after filtering (as Cycles does: docs/design.md §3.10); linear
+/// colour stays encoded, decoded after filtering (as Cycles does: docs/design/tracer.md §3.10); linear
 /// data reads as code / max; float images are linear already.
 pub(in crate::scene) fn to_texture(name: String, image: &DynamicImage, space: ColorSpace) -> Texture {
     // Float images hold linear values already; non-finite ones would poison every lookup.

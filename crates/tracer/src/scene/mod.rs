@@ -1,4 +1,4 @@
-//! A scene as loaded from disk (docs/design.md §3.1): triangles flattened into world space,
+//! A scene as loaded from disk (docs/design/tracer.md §3.1): triangles flattened into world space,
 //! materials, cameras, punctual lights and the environment. Loaders: `gltf` (glTF 2.0, .gltf and
 //! .glb) and `obj` (OBJ/MTL; a directory or list of OBJ files is one scene). The acceleration
 //! structure and light sampling structures are built from a `Scene` by `crate::integrator`.
@@ -24,7 +24,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 /// A light with no area (`KHR_lights_punctual`). Intensities are radiant (W/sr per channel);
-/// the glTF loader converts from candela (÷ 683, docs/design.md §3.9) and lux (÷ 683).
+/// the glTF loader converts from candela (÷ 683, docs/design/tracer.md §3.9) and lux (÷ 683).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum PunctualLight {
     /// Emits equally in all directions from a point.
@@ -62,7 +62,7 @@ pub enum PunctualLight {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum SpotFalloff {
     /// Blender Cycles' falloff: smoothstep((cos θ − cos θo) / ((1 − cos θo) · b)) with
-    /// b = 1 − inner/outer (docs/design.md §3.10); what a Blender-exported scene was lit with.
+    /// b = 1 − inner/outer (docs/design/tracer.md §3.10); what a Blender-exported scene was lit with.
     #[default]
     Blender,
     /// The glTF specification's recommended falloff: the square of the linear ramp in cos θ

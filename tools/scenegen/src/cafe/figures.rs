@@ -5,7 +5,7 @@
 use super::Object;
 use super::materials::Mat;
 use super::mesh::{Section, capsule, ellipsoid, ellipsoid_shell, loft, sphere, tube};
-use super::staging::TABLE_TOP_Y;
+use super::staging::{HEAD_CENTER, TABLE_TOP_Y};
 use glam::{DVec2, Mat3A, Vec3};
 
 /// What tells the two figures apart.
@@ -54,8 +54,6 @@ pub const FIGURE_B: Style = Style {
 /// Cloth texture repeats per metre (the knit's stitches are ~6 mm, the tartan's sett ~12 cm).
 const CLOTH_UV: f64 = 6.0;
 
-/// Where the head sits (figure frame): the face looks along +z.
-pub const HEAD_CENTER: Vec3 = Vec3::new(0.0, 1.33, 0.09);
 /// The skull's semi-axes.
 const SKULL: Vec3 = Vec3::new(0.082, 0.105, 0.098);
 

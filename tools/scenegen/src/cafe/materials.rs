@@ -1,4 +1,4 @@
-//! The café's materials, as Blender's glTF exporter would write them (docs/design.md §3.10):
+//! The café's materials, as Blender's glTF exporter would write them (docs/design/tracer.md §3.10):
 //! metallic-roughness factors and textures, `KHR_materials_specular` 0 for pure-Lambertian paint,
 //! `KHR_materials_transmission` + `KHR_materials_ior` for glass, and emitters as
 //! `emissiveFactor` × `KHR_materials_emissive_strength` (radiance, W·sr⁻¹·m⁻², no π, no 683),

@@ -242,7 +242,7 @@ fn save(path: &Path, w: u32, h: u32, px: &[Vec3]) {
 fn eyes(figure_b: bool) -> [Vec3; 2] {
     let (at, turn) = staging::seat(figure_b);
     let m = staging::group_to_world() * Affine3A::from_rotation_translation(turn, at);
-    let h = super::figures::HEAD_CENTER;
+    let h = staging::HEAD_CENTER;
     [-1.0, 1.0].map(|s| m.transform_point3(h + Vec3::new(0.03 * s, -0.005, 0.086)))
 }
 

@@ -8,6 +8,9 @@ use std::f32::consts::FRAC_PI_2;
 
 /// Height of the table top's upper surface.
 pub const TABLE_TOP_Y: f32 = 0.75;
+/// Where a seated figure's head sits (figure frame): the face looks along +z. The figures are
+/// modelled around it, and the cameras aim at the faces it places.
+pub const HEAD_CENTER: Vec3 = Vec3::new(0.0, 1.33, 0.09);
 /// Distance from the table's centre to each chair's centre.
 pub const SEAT_DISTANCE: f32 = 0.85;
 
@@ -51,7 +54,7 @@ pub const ASPECT: f32 = 16.0 / 9.0;
 /// The point between a figure's eyes (group coordinates).
 pub fn face(figure_b: bool) -> Vec3 {
     let (at, turn) = seat(figure_b);
-    at + turn * (super::figures::HEAD_CENTER + Vec3::new(0.0, -0.005, 0.086))
+    at + turn * (HEAD_CENTER + Vec3::new(0.0, -0.005, 0.086))
 }
 
 /// The target that makes a camera at `eye` with vertical field `yfov_deg` (no roll) show

@@ -7,7 +7,7 @@
 //! of piecewise-constant aggregation, so every level is again a 5-point graph Laplacian with
 //! ground. That operator is about twice as stiff as a rediscretised one (Braess 1995) and would
 //! halve every correction, so links are scaled by ½ and grounds by ¾ (scales chosen by trial on
-//! test masks; docs/design.md §5.8). Corrections prolong bilinearly (cell-centred weights 9/16,
+//! test masks; docs/design/mcc.md §5.8). Corrections prolong bilinearly (cell-centred weights 9/16,
 //! 3/16, 3/16, 1/16) and residuals restrict by the exact transpose; the smoother runs red–black
 //! before the coarse correction and black–red after. So the V-cycle is a symmetric positive
 //! definite operator, as conjugate gradients requires of a preconditioner.

@@ -1,4 +1,4 @@
-//! The membrane: harmonic interpolation on the pixel grid (docs/design.md §5.8). Values are
+//! The membrane: harmonic interpolation on the pixel grid (docs/design/mcc.md §5.8). Values are
 //! given at *fixed* pixels; every other pixel becomes the average of its 4-neighbours inside the
 //! image: Laplace's equation with Dirichlet conditions at the fixed pixels and Neumann conditions
 //! at the image border, the interpolant of seamless cloning (Pérez, Gangnet & Blake 2003, "Poisson
@@ -528,12 +528,16 @@ impl<T: Copy> Shared<T> {
     /// Reads cell `p`. Caller: no task writes `p` during this half-sweep.
     #[inline]
     unsafe fn read(&self, p: usize) -> T {
+        // SAFETY: `p` is a cell of the grid the pointer spans (the caller's index), and no task
+        // writes it during this half-sweep (the caller's guarantee), so the read races nothing.
         unsafe { self.0.add(p).read() }
     }
 
     /// Writes cell `p`. Caller: no other task reads or writes `p` during this half-sweep.
     #[inline]
     unsafe fn write(&self, p: usize, v: T) {
+        // SAFETY: `p` is a cell of the grid the pointer spans (the caller's index), and no other
+        // task reads or writes it during this half-sweep (the caller's guarantee).
         unsafe { self.0.add(p).write(v) }
     }
 }
