@@ -6,10 +6,11 @@
 //! a render farm's job array can split a shot by frame ranges over a shared folder; `--check`
 //! renders nothing and names every frame that is not finished (the farm's last step).
 //!
-//! Motion blur (`--shutter OPEN..CLOSE`) is camera-ray blur: each eye ray gets a time in the
-//! shutter interval and the lens reader interpolates the ray files of frames f and f+1 by it.
-//! Animated geometry is posed once per frame, at frame / fps seconds: there is no object motion
-//! blur (the BVH holds one pose per frame).
+//! Motion blur (`--shutter OPEN..CLOSE`): each eye ray gets a time in the shutter interval; the
+//! lens reader interpolates the ray files of frames f and f+1 by it (camera-ray blur), and an
+//! animated scene's moving geometry is posed at the motion steps over the shutter and
+//! interpolated to the ray's time (geometry blur, which needs no next frame: the animation
+//! holds its last keys past its end).
 
 use crate::args::{FrameRange, Shutter};
 use crate::preview::{GIF_NAME, finished_frames, write_gif};
@@ -27,6 +28,7 @@ use tracer::job::{
     CameraRender, Provenance, Quality, RenderInfo, SceneSetup, Stale, check_finished, write_render,
 };
 use tracer::lens::LensChain;
+use tracer::scene::DEFAULT_MOTION_STEPS;
 
 /// Preview kinds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -57,13 +59,14 @@ pub struct AnimateArgs {
     /// Output directory: frameFFFF.exr and frameFFFF.png per frame, and the preview.
     #[arg(long)]
     pub out: PathBuf,
-    /// Frames per second: an animated scene is posed at frame / FPS seconds (geometry is not
-    /// blurred: it holds that pose for the whole shutter interval). Also the preview's rate.
+    /// Frames per second: an animated scene is posed at frame / FPS seconds (and over the
+    /// shutter from there, with --shutter). Also the preview's rate.
     #[arg(long, default_value_t = SceneSetup::DEFAULT_FPS)]
     pub fps: f32,
-    /// Camera motion blur: the shutter is open from OPEN to CLOSE frames after each frame's
-    /// start (0 ≤ OPEN ≤ CLOSE ≤ 1); each eye ray's time blends the ray files of frames f and
-    /// f+1. No object motion blur: moving geometry is sampled at the frame's time.
+    /// Motion blur: the shutter is open from OPEN to CLOSE frames after each frame's start
+    /// (0 ≤ OPEN ≤ CLOSE ≤ 1; Blender's shutter S at position START is 0..S); each eye ray's
+    /// time blends the ray files of frames f and f+1, and moving geometry is interpolated
+    /// between 3 motion steps over the shutter to that time.
     #[arg(long, value_name = "OPEN..CLOSE")]
     pub shutter: Option<Shutter>,
     /// Drop an N-pixel border (in the ray files' pixels) rendered with `render --overscan N`;
@@ -246,6 +249,7 @@ pub fn animate(a: &AnimateArgs) -> anyhow::Result<AnimateReport> {
         let mut earlier: Option<FrameRays> = None;
         // Frames the shutter asked to blur that have no next frame's rays to blend with.
         let mut sharp = Vec::new();
+        let mut told: Vec<String> = Vec::new();
         for &frame in &todo {
             // Read once: hashed for the header and handed to the lens reader, which reads nothing.
             let rays = shot.rays(frame, earlier.as_ref())?;
@@ -263,9 +267,18 @@ pub fn animate(a: &AnimateArgs) -> anyhow::Result<AnimateReport> {
                 Some(t) => t,
                 None => {
                     let setup = &shot.setup;
-                    let scene = setup.pose(&base, frame).with_context(|| {
-                        format!("posing the scene at frame {frame} ({} s)", setup.frame_seconds(frame))
-                    })?;
+                    let scene = setup
+                        .pose_in_shutter(&base, frame, shot.shutter, DEFAULT_MOTION_STEPS)
+                        .with_context(|| {
+                            format!("posing the scene at frame {frame} ({} s)", setup.frame_seconds(frame))
+                        })?;
+                    // What posing found (motion the blur cannot show) is said once per run.
+                    for w in scene.warnings.iter().skip(base.warnings.len()) {
+                        if !q.quiet && !told.contains(w) {
+                            eprintln!("warning: {w}");
+                            told.push(w.clone());
+                        }
+                    }
                     posed = quality.tracer(&scene)?;
                     &posed
                 }
@@ -300,7 +313,7 @@ pub fn animate(a: &AnimateArgs) -> anyhow::Result<AnimateReport> {
 }
 
 /// The one warning of a run whose `--shutter` found no next frame's rays for `sharp` frames
-/// (typically the shot's last): they are rendered sharp, and their headers say so.
+/// (typically the shot's last): their camera rays hold over the shutter, and their headers say so.
 fn sharp_warning(a: &AnimateArgs, sharp: &[u32]) -> Option<String> {
     let (&first, shutter) = (sharp.first()?, a.shutter?);
     let frames = match sharp {
@@ -314,8 +327,9 @@ fn sharp_warning(a: &AnimateArgs, sharp: &[u32]) -> Option<String> {
     let next = first.saturating_add(1);
     Some(format!(
         "--shutter {}..{}: {frames} no next frame's ray file in {} (for frame {first}: {}), so the \
-         camera-ray blur has nothing to blend: rendered sharp, the header saying {RAY_BLUR_KEY} = none. \
-         To blur it, write the next frame's rays too (`keys` or `inbetween --frames …..={next}`)",
+         camera-ray blur has nothing to blend: the camera's rays hold over the shutter, the header \
+         saying {RAY_BLUR_KEY} = none (moving geometry still blurs). To blur the camera too, write \
+         the next frame's rays (`keys` or `inbetween --frames …..={next}`)",
         shutter.open,
         shutter.close,
         a.lens_dir.display(),

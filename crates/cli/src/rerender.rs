@@ -75,7 +75,7 @@ pub fn render_through(
     }
     let setup = q.scene_setup(fps)?;
     let loaded = load_scene(scene, &setup, q.quiet)?;
-    let posed = at_frame(&setup, loaded, job.frame)?;
+    let posed = at_frame(&setup, loaded, job.frame, (0.0, 0.0), q.quiet)?;
     let tracer = job.quality.tracer(&posed)?;
     let rendered = with_threads(q.threads, || job.run(&tracer, &Bars::new(q.quiet)))??;
     warn_nonfinite("rerender", &rendered);
