@@ -235,12 +235,25 @@ impl Bvh {
             slot_of[t as usize] = slot as u32;
         }
         let nodes = if triangles.is_empty() { Vec::new() } else { widen(&cwbvh, &triangles, 1) };
-        let leaves: Vec<(u32, u32)> = nodes
-            .iter()
-            .flat_map(|n| (0..8).filter(|&c| n.leaves >> c & 1 != 0).map(|c| (n.index[c], n.count[c] as u32)))
-            .collect();
-        let sides = leaving::slot_sides(&leaves, &triangles);
+        let sides = sides_of(&nodes, &triangles);
         Self { nodes, triangles, triangle_ids, slot_of, sides, motion: None }
+    }
+
+    /// Refits the tree to `mesh` with its vertices moved (the same triangles: a skinned or
+    /// morphing scene at another frame): every triangle and box updated in place, the tree's
+    /// structure kept, no new build. Cheaper than [`Bvh::build`] by far, at the price of
+    /// looser boxes where the pose strays far from the one the tree was built for. False (and
+    /// nothing changed) when `mesh` has other triangles or the tree has moving ones.
+    pub fn refit(&mut self, mesh: &Mesh) -> bool {
+        if self.motion.is_some() || mesh.triangle_count() != self.slot_of.len() {
+            return false;
+        }
+        for (tri, &t) in self.triangles.iter_mut().zip(&self.triangle_ids) {
+            *tri = mesh.corners(t as usize).map(|p| p.to_array());
+        }
+        fit_boxes(&mut self.nodes, &self.triangles, 1);
+        self.sides = sides_of(&self.nodes, &self.triangles);
+        true
     }
 
     /// What a ray spawned at a hit on the triangle in `slot`, along `direction`, skips: that
@@ -573,42 +586,55 @@ fn walk<const N: usize, const NEAREST_FIRST: bool, T: Triangles>(
 /// holds `stride` corner sets per slot (a moving triangle's at every step, whose box is the
 /// union of all).
 fn widen(cwbvh: &CwBvh, triangles: &[[[f32; 3]; 3]], stride: usize) -> Vec<WideNode> {
-    // Parents before children (depth-first from the root), so the reverse order sees every
-    // child's box before its parent needs it.
-    let mut order = Vec::with_capacity(cwbvh.nodes.len());
-    let mut pending = vec![0usize];
-    while let Some(i) = pending.pop() {
-        order.push(i);
-        let src = &cwbvh.nodes[i];
-        pending.extend(
-            (0..8)
-                .filter(|&c| !src.is_child_empty(c) && !src.is_leaf(c))
-                .map(|c| src.child_node_index(c) as usize),
-        );
-    }
     let mut nodes = vec![WideNode::EMPTY; cwbvh.nodes.len()];
-    let mut bounds = vec![None::<(Vec3, Vec3)>; cwbvh.nodes.len()];
-    for &i in order.iter().rev() {
-        let src = &cwbvh.nodes[i];
-        let wide = &mut nodes[i];
-        let mut total: Option<(Vec3, Vec3)> = None;
+    for (src, wide) in cwbvh.nodes.iter().zip(&mut nodes) {
         for c in 0..8 {
             if src.is_child_empty(c) {
                 continue;
             }
-            let child_box = if src.is_leaf(c) {
+            if src.is_leaf(c) {
                 let (first, count) = src.child_primitives(c);
                 wide.index[c] = first;
                 wide.count[c] = count as u8;
                 wide.leaves |= 1 << c;
-                let span = first as usize * stride..(first + count) as usize * stride;
-                let corners = triangles[span].iter().flatten();
-                corners.fold(None, |b, &p| Some(grow(b, Vec3::from_array(p))))
             } else {
-                let child = src.child_node_index(c) as usize;
-                wide.index[c] = child as u32;
+                wide.index[c] = src.child_node_index(c);
                 wide.inner |= 1 << c;
-                bounds[child]
+            }
+        }
+    }
+    fit_boxes(&mut nodes, triangles, stride);
+    nodes
+}
+
+/// Sets every child box of `nodes` (whose structure is set) from `triangles` (`stride` corner
+/// sets per slot): what building does once and refitting does per frame.
+fn fit_boxes(nodes: &mut [WideNode], triangles: &[[[f32; 3]; 3]], stride: usize) {
+    if nodes.is_empty() {
+        return;
+    }
+    // Parents before children (depth-first from the root), so the reverse order sees every
+    // child's box before its parent needs it.
+    let mut order = Vec::with_capacity(nodes.len());
+    let mut pending = vec![0usize];
+    while let Some(i) = pending.pop() {
+        order.push(i);
+        let n = &nodes[i];
+        pending.extend((0..8).filter(|&c| n.inner >> c & 1 != 0).map(|c| n.index[c] as usize));
+    }
+    let mut bounds = vec![None::<(Vec3, Vec3)>; nodes.len()];
+    for &i in order.iter().rev() {
+        let wide = &mut nodes[i];
+        let mut total: Option<(Vec3, Vec3)> = None;
+        for c in 0..8 {
+            let child_box = if wide.leaves >> c & 1 != 0 {
+                let (first, count) = (wide.index[c] as usize, wide.count[c] as usize);
+                let corners = triangles[first * stride..(first + count) * stride].iter().flatten();
+                corners.fold(None, |b, &p| Some(grow(b, Vec3::from_array(p))))
+            } else if wide.inner >> c & 1 != 0 {
+                bounds[wide.index[c] as usize]
+            } else {
+                continue;
             };
             if let Some((lo, hi)) = child_box {
                 wide.set_box(c, lo, hi);
@@ -617,7 +643,15 @@ fn widen(cwbvh: &CwBvh, triangles: &[[[f32; 3]; 3]], stride: usize) -> Vec<WideN
         }
         bounds[i] = total;
     }
-    nodes
+}
+
+/// Every slot's sides (`leaving.rs`), from the leaves of `nodes`.
+fn sides_of(nodes: &[WideNode], triangles: &[[[f32; 3]; 3]]) -> Vec<SlotSides> {
+    let leaves: Vec<(u32, u32)> = nodes
+        .iter()
+        .flat_map(|n| (0..8).filter(|&c| n.leaves >> c & 1 != 0).map(|c| (n.index[c], n.count[c] as u32)))
+        .collect();
+    leaving::slot_sides(&leaves, triangles)
 }
 
 /// `b` grown to hold `p`.

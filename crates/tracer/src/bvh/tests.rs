@@ -354,3 +354,33 @@ fn motion_that_moves_nothing_is_the_static_tree() {
     assert!(!b.has_motion());
     assert_eq!((a.triangles, a.triangle_ids, a.slot_of), (b.triangles, b.triangle_ids, b.slot_of));
 }
+
+/// A refitted tree (the same triangles, every vertex moved) answers like a tree built afresh
+/// and like testing every triangle; a mesh of other triangles is refused, nothing changed.
+#[test]
+fn refitted_tree_matches_brute_force() {
+    let mut rng = Lcg(31);
+    let tris: Vec<[Vec3; 3]> = (0..500)
+        .map(|_| {
+            let c = rng.vec() * 5.0;
+            [c + rng.vec() * 0.4, c + rng.vec() * 0.4, c + rng.vec() * 0.4]
+        })
+        .collect();
+    let mut bvh = Bvh::build(&mesh_of(&tris));
+    // Bent and stretched: every vertex moves, some far.
+    let moved: Vec<[Vec3; 3]> = tris
+        .iter()
+        .map(|t| t.map(|p| glam::Quat::from_rotation_z(0.3 * p.y) * p + Vec3::new(0.0, p.x * p.x * 0.2, 0.5)))
+        .collect();
+    assert!(bvh.refit(&mesh_of(&moved)));
+    let fresh = Bvh::build(&mesh_of(&moved));
+    for _ in 0..3000 {
+        let (o, d) = (rng.vec() * 6.0, rng.vec().normalize());
+        let ray = Ray::new(o, d, 0.0);
+        let brute = brute_closest(&moved, o, d);
+        assert_eq!(bvh.intersect(&ray, f32::INFINITY).map(|h| (h.triangle as usize, h.t)), brute);
+        assert_eq!(fresh.intersect(&ray, f32::INFINITY).map(|h| (h.triangle as usize, h.t)), brute);
+        assert_eq!(bvh.occluded(&ray, f32::INFINITY), brute.is_some());
+    }
+    assert!(!bvh.refit(&mesh_of(&moved[1..])), "another triangle count");
+}
