@@ -93,7 +93,19 @@ def import_scene(gltf_path, camera):
     return scene
 
 
-def configure(scene, size, spp, depth, seed, threads, denoise=False):
+def environment(scene, path):
+    """A world lit by the equirectangular image at `path` (strength 1), as `--env-map` is."""
+    world = bpy.data.worlds.new("environment")
+    world.use_nodes = True
+    nodes = world.node_tree.nodes
+    texture = nodes.new("ShaderNodeTexEnvironment")
+    texture.image = bpy.data.images.load(os.path.abspath(path))
+    world.node_tree.links.new(texture.outputs["Color"], nodes["Background"].inputs["Color"])
+    nodes["Background"].inputs["Strength"].default_value = 1.0
+    scene.world = world
+
+
+def configure(scene, size, spp, depth, seed, threads, denoise=False, guiding=False):
     scene.render.engine = "CYCLES"
     c = scene.cycles
     bounces = depth - 1
@@ -110,7 +122,8 @@ def configure(scene, size, spp, depth, seed, threads, denoise=False):
         "blur_glossy": 0.0,
         "caustics_reflective": True,
         "caustics_refractive": True,
-        "use_guiding": False,
+        # Path guiding (Open PGL) ships off; `--guiding` turns it on with its default training.
+        "use_guiding": guiding,
         "max_bounces": bounces,
         "diffuse_bounces": bounces,
         "glossy_bounces": bounces,
@@ -197,13 +210,17 @@ def main():
     p.add_argument("--reference")
     p.add_argument("--noise-spp", type=int)
     p.add_argument("--denoise", action="store_true", help="Cycles' OIDN denoiser on (albedo+normal)")
+    p.add_argument("--env-map", help="an equirectangular image lighting the scene (a world)")
+    p.add_argument("--guiding", action="store_true", help="Cycles' path guiding on")
     a = p.parse_args(argv)
     size = tuple(int(v) for v in a.size.split(","))
     scene = import_scene(a.gltf, a.camera)
     changed = one_sided_emission(a.gltf)
     if changed:
         print(f"one-sided emission (doubleSided: false) restored on: {', '.join(changed)}")
-    configure(scene, size, a.spp, a.depth, a.seed, a.threads, a.denoise)
+    if a.env_map:
+        environment(scene, a.env_map)
+    configure(scene, size, a.spp, a.depth, a.seed, a.threads, a.denoise, a.guiding)
     seconds = render(scene, a.out)
     image = load_rgb(a.out)
     print(f"{a.out}: {a.spp} spp in {seconds:.2f} s, channel means {image.mean(axis=(0, 1))}")

@@ -3,11 +3,11 @@
 
 use crate::args::{FrameRange, KeyArg, RayFormatArg, Resolution};
 use crate::progress::Bars;
-use anyhow::Context;
 use clap::{Args, ValueEnum};
-use mcc::inbetween::{InbetweenMode, Keys, write_frames};
+use mcc::inbetween::{InbetweenMode, Keys};
+use mcc::job::Inbetween;
+use std::ops::RangeInclusive;
 use std::path::{Path, PathBuf};
-use tracer::render::Progress;
 
 /// In-betweening modes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -68,33 +68,53 @@ pub struct InbetweenArgs {
     pub output: InbetweenOutputArgs,
 }
 
-/// Writes the frames `o` asks for from `keys`; returns the paths written, in frame order.
-pub fn write_inbetweens(keys: &Keys, o: &InbetweenOutputArgs) -> anyhow::Result<Vec<PathBuf>> {
-    let frames = o.frames.unwrap_or_else(|| {
-        let f = keys.frames();
-        FrameRange { first: f[0], last: f[f.len() - 1] }
-    });
+impl InbetweenOutputArgs {
+    /// The library's settings these arguments make.
+    pub fn inbetween(&self) -> Inbetween {
+        Inbetween {
+            frames: self.frames.map(FrameRange::range),
+            out: self.out.clone(),
+            mode: self.mode.into(),
+            res: self.res.map(|r| r.0),
+            format: self.ray_format.into(),
+            crop: self.crop,
+        }
+    }
+}
+
+/// Writes the frames `o` asks for from `keys`, with a bar and a summary unless `quiet`; returns
+/// the paths written, in frame order.
+pub fn write_inbetweens(keys: &Keys, o: &Inbetween, quiet: bool) -> anyhow::Result<Vec<PathBuf>> {
     let start = std::time::Instant::now();
-    let bars = Bars::new(o.quiet);
-    bars.begin("in-between", frames.len());
-    let written =
-        write_frames(keys, frames.range(), o.mode.into(), &o.out, o.ray_format.into(), &|_| bars.advance(1))
-            .with_context(|| format!("in-betweening frames {frames} into {}", o.out.display()))?;
-    bars.finish();
-    if !o.quiet {
-        let res = keys.resolution();
-        eprintln!(
-            "in-between: {} frames ({frames}) at {}x{} from keys at {:?} ({:?}) in {:.2} s -> {}",
-            written.len(),
-            res.x,
-            res.y,
-            keys.frames(),
-            o.mode,
-            start.elapsed().as_secs_f64(),
-            o.out.display()
-        );
+    let written = o.write(keys, &Bars::new(quiet))?;
+    if !quiet {
+        let frames = o.frames_for(&keys.frames());
+        eprintln!("{}", summary(keys, o, frames, &written, start.elapsed().as_secs_f64()));
     }
     Ok(written)
+}
+
+/// The line saying `written` frames `frames` were in-betweened from `keys` as `o` says, in
+/// `seconds`.
+pub fn summary(
+    keys: &Keys,
+    o: &Inbetween,
+    frames: RangeInclusive<u32>,
+    written: &[PathBuf],
+    seconds: f64,
+) -> String {
+    let res = keys.resolution();
+    format!(
+        "in-between: {} frames ({}..={}) at {}x{} from keys at {:?} ({:?}) in {seconds:.2} s -> {}",
+        written.len(),
+        frames.start(),
+        frames.end(),
+        res.x,
+        res.y,
+        keys.frames(),
+        o.mode,
+        o.out.display()
+    )
 }
 
 /// Loads the key files, refusing a missing one by name before anything is written.
@@ -110,6 +130,6 @@ fn load_keys(keys: &[KeyArg], crop: u32, res: Option<Resolution>) -> anyhow::Res
 
 pub fn run(a: InbetweenArgs) -> anyhow::Result<()> {
     let keys = load_keys(&a.keys, a.output.crop, a.output.res)?;
-    write_inbetweens(&keys, &a.output)?;
+    write_inbetweens(&keys, &a.output.inbetween(), a.output.quiet)?;
     Ok(())
 }

@@ -1,18 +1,17 @@
-//! `mcctrace keys`: the column's keyframe workflow in one go (docs/design.md §5, §7, §8): one
-//! collage per key frame, each remapped against that frame's source views
-//! (`frameFFFFcameraCC.mcr`, docs/design.md §4.3) by the remap command's own job, then
-//! in-betweened into one ray file per frame. Skipped when those files are finished for the same
-//! keys, views and settings (`mcc::job::KeysRecord`, docs/farm.md).
+//! `mcctrace keys`: the column's keyframe workflow in one go (docs/design.md §5, §7, §8) with the
+//! library's [`KeyFrames`] job: one collage per key frame, each remapped against that frame's
+//! source views (`frameFFFFcameraCC.mcr`, docs/design.md §4.3), then in-betweened into one ray
+//! file per frame; skipped when those files are finished for the same keys, views and settings
+//! (`mcc::job::KeysRecord`, docs/farm.md).
 
 use crate::args::KeyArg;
-use crate::inbetween::{InbetweenOutputArgs, write_inbetweens};
-use crate::setup::collage::{RemapSettingsArgs, remap};
-use anyhow::{Context, bail};
+use crate::inbetween::{InbetweenOutputArgs, summary};
+use crate::progress::Bars;
+use crate::setup::collage::{RemapSettingsArgs, tell_remapped};
+use anyhow::bail;
 use clap::Args;
-use mcc::inbetween::Keys;
-use mcc::job::KeysRecord;
+use mcc::job::{Inbetween, JobProgress, Key, KeyFrames, KeysEvent};
 use std::path::PathBuf;
-use tracer::job::Stale;
 
 /// Arguments of `mcctrace keys`.
 #[derive(Args, Debug)]
@@ -47,77 +46,75 @@ pub(crate) fn split_key(key: &KeyArg) -> anyhow::Result<(PathBuf, Option<PathBuf
     }
 }
 
-/// Remaps every key's collage against its frame's views; returns (frame, rays) per key.
-fn remap_keys(a: &KeysArgs) -> anyhow::Result<Vec<(u32, mcc::RayFile)>> {
+/// The job `a` asks for: each key's collage and regions, the remapper's and the in-betweener's
+/// settings.
+fn job(a: &KeysArgs) -> anyhow::Result<KeyFrames> {
+    let keys = a
+        .keys
+        .iter()
+        .map(|k| {
+            let (collage, regions) = split_key(k)?;
+            Ok(Key { frame: k.frame, collage, regions, given: k.value.clone() })
+        })
+        .collect::<anyhow::Result<_>>()?;
+    Ok(KeyFrames {
+        keys,
+        rays: a.rays.clone(),
+        options: a.settings.collage_options()?,
+        config: a.settings.config(),
+        output: a.output.inbetween(),
+    })
+}
+
+/// `keys`' progress on the terminal: the in-betweener's bar, what each remap made, and why the
+/// files are made again or skipped.
+pub(crate) struct KeysTerminal {
+    quiet: bool,
+    bars: Bars,
+    output: Inbetween,
+}
+
+impl KeysTerminal {
+    /// Progress of a job writing `output`; bars and lines unless `quiet`.
+    pub(crate) fn new(output: Inbetween, quiet: bool) -> Self {
+        Self { quiet, bars: Bars::new(quiet), output }
+    }
+}
+
+impl JobProgress<KeysEvent<'_>> for KeysTerminal {
+    fn stages(&self) -> &dyn tracer::render::Progress {
+        &self.bars
+    }
+
+    fn event(&self, event: KeysEvent) {
+        match event {
+            KeysEvent::Finished => {
+                if !self.quiet {
+                    eprintln!(
+                        "keys: the ray files in {} are finished with these keys, views and settings, skipped",
+                        self.output.out.display()
+                    );
+                }
+            }
+            KeysEvent::Stale(why) => eprintln!("keys: {why}, making them again"),
+            KeysEvent::Remapped { job, done, seconds } => tell_remapped(job, done, seconds, self.quiet),
+            KeysEvent::Inbetweened { keys, frames, written, seconds } => {
+                if !self.quiet {
+                    eprintln!("{}", summary(keys, &self.output, frames, written, seconds));
+                }
+            }
+        }
+    }
+}
+
+pub fn run(a: KeysArgs) -> anyhow::Result<()> {
+    let job = job(&a)?;
     let mut seen = std::collections::BTreeSet::new();
     for k in &a.keys {
         if !seen.insert(k.frame) {
             bail!("frame {} has two --key entries; each frame takes one key", k.frame);
         }
     }
-    a.keys
-        .iter()
-        .map(|k| {
-            let (collage, regions) = split_key(k)?;
-            let out = (a.settings.job(collage.clone(), regions, a.rays.clone(), k.frame))
-                .and_then(|job| remap(&job, a.output.quiet))
-                .with_context(|| format!("key at frame {} ({})", k.frame, collage.display()))?;
-            let rays = mcc::inbetween::crop_key(out.output.rays, a.output.crop)
-                .map_err(|m| anyhow::anyhow!("key at frame {} ({}): {m}", k.frame, collage.display()))?;
-            Ok((k.frame, rays))
-        })
-        .collect()
-}
-
-/// The record of what this run's ray files are made from: its settings, and every file the
-/// keys' remaps read (hashed).
-fn record(a: &KeysArgs) -> anyhow::Result<KeysRecord> {
-    let o = &a.output;
-    let mut inputs = Vec::new();
-    let mut settings = Vec::new();
-    for k in &a.keys {
-        let (collage, regions) = split_key(k)?;
-        let job = a.settings.job(collage, regions, a.rays.clone(), k.frame)?;
-        inputs.extend(job.input.inputs().with_context(|| format!("key at frame {}", k.frame))?);
-        settings.push((format!("key {}", k.frame), k.value.clone()));
-        settings.push((format!("remap {}", k.frame), format!("{:?} {:?}", job.config, job.input.options)));
-    }
-    let frames = o.frames.unwrap_or_else(|| {
-        let at = a.keys.iter().map(|k| k.frame);
-        crate::args::FrameRange { first: at.clone().min().unwrap_or(0), last: at.max().unwrap_or(0) }
-    });
-    settings.extend([
-        ("rays".to_owned(), a.rays.display().to_string()),
-        ("frames".to_owned(), frames.to_string()),
-        ("mode".to_owned(), format!("{:?}", o.mode)),
-        ("res".to_owned(), o.res.map(|r| r.to_string()).unwrap_or_default()),
-        ("ray_format".to_owned(), format!("{:?}", o.ray_format)),
-        ("crop".to_owned(), o.crop.to_string()),
-    ]);
-    let format = o.ray_format.into();
-    let outputs = frames.range().map(|f| o.out.join(mcc::names::rerender_name(f, format))).collect();
-    Ok(KeysRecord::new(&o.out, settings, &inputs, outputs)?)
-}
-
-pub fn run(a: KeysArgs) -> anyhow::Result<()> {
-    let record = record(&a)?;
-    match record.check() {
-        Ok(()) => {
-            if !a.output.quiet {
-                eprintln!(
-                    "keys: the ray files in {} are finished with these keys, views and settings, skipped",
-                    a.output.out.display()
-                );
-            }
-            return Ok(());
-        }
-        // Never made here: nothing to say.
-        Err(Stale::Missing(path)) if path == record.path => {}
-        Err(why) => eprintln!("keys: {why}, making them again"),
-    }
-    let remapped = remap_keys(&a)?;
-    let keys = Keys::new(remapped, a.output.res.map(|r| r.0))?;
-    write_inbetweens(&keys, &a.output)?;
-    record.write()?;
+    job.run(&KeysTerminal::new(job.output.clone(), a.output.quiet))?;
     Ok(())
 }

@@ -1,7 +1,7 @@
-//! `mcctrace render`: render a scene from one or more cameras (docs/design.md §3, §8), each view
-//! written as EXR + PNG, with the MCC lens writer's rays and the tagger's stamp when asked; or,
-//! with `--tile I/N`, one band of each view (docs/farm.md); a band, and with `--resume` a whole
-//! view, is skipped when already finished.
+//! `mcctrace render`: render a scene from one or more cameras (docs/design.md §3, §8) with the
+//! library's [`RenderViews`] job, each view written as EXR + PNG, with the MCC lens writer's rays
+//! and the tagger's stamp when asked; or, with `--tile I/N`, one band of each view
+//! (docs/farm.md); a band, and with `--resume` a whole view, is skipped when already finished.
 
 use crate::args::{RayFormatArg, Shutter};
 use crate::progress::Bars;
@@ -11,9 +11,9 @@ use crate::setup::scene::{SceneArgs, at_frame, load_scene, select_views};
 use crate::with_threads;
 use anyhow::bail;
 use clap::Args;
-use mcc::job::ViewRender;
+use mcc::job::{JobProgress, RenderViews, ViewsEvent};
 use std::path::PathBuf;
-use tracer::job::{Band, CameraRender, Provenance, SceneSetup, Stale};
+use tracer::job::{Band, SceneSetup};
 
 /// Arguments of `mcctrace render`.
 #[derive(Args, Debug)]
@@ -100,82 +100,70 @@ pub fn run(a: RenderArgs) -> anyhow::Result<()> {
         mcc::layers::openraster::check_path(path)?;
     }
     let outputs = output_paths(&a.out, &views, a.frame)?;
-    let mut layers = Vec::new();
     let quality = q.quality();
     let tracer = quality.tracer(&scene)?;
-    let bars = Bars::new(q.quiet);
-    for (view, exr) in views.iter().zip(&outputs) {
-        let camera = view.camera(q.resolution(), a.overscan)?;
-        let job = ViewRender {
-            render: CameraRender {
-                tracer: &tracer,
-                camera: camera.as_ref(),
-                name: &view.desc.name,
-                camera_id: view.id,
-                frame: a.frame,
-                shutter,
-                quality,
-            },
-            scene: &a.scene.scene,
-            exr,
-            rays: a.lens_writer.then(|| a.ray_format.into()),
-            tag: a.tag.then_some(code),
-            provenance: Provenance {
-                projection: Some(view.desc.projection),
-                environment_map: setup.environment_image.as_ref(),
-                rays_from: None,
-                rays_digest: None,
-            },
-            setup: Some(&setup),
-            band: a.tile,
-        };
-        let name = &view.desc.name;
-        let what = match a.tile {
-            Some(band) => {
-                let rows = job.rows().expect("a band has rows");
-                if rows.is_empty() {
-                    eprintln!(
-                        "{name}: band {band} of a {}-row image is empty: nothing to render",
-                        rows.start
-                    );
-                    continue;
-                }
-                Some(format!("band {band}"))
-            }
-            None => a.resume.then(|| "view".to_owned()),
-        };
-        if let Some(what) = what {
-            match job.check() {
-                Ok(()) => {
-                    if !q.quiet {
-                        eprintln!("{name}: {what} finished in {}, skipped", job.target().display());
-                    }
-                    continue;
-                }
-                // Not rendered yet: nothing to say.
-                Err(Stale::Missing(path)) if path == job.target() => {}
-                Err(why) => eprintln!("{name}: {what}: {why}, re-rendering"),
-            }
-        }
-        let (rendered, files) = with_threads(q.threads, || job.run(&bars))??;
-        warn_nonfinite(&view.desc.name, &rendered);
-        if !q.quiet {
-            eprintln!("{}", summary(&view.desc.name, q.spp, &rendered, &files.exr));
-            // The ray file is named by the view's frame and id (docs/design.md §4.3), not by --out.
-            if let Some(rays) = &files.rays {
-                eprintln!("{}: rays -> {}", view.desc.name, rays.display());
-            }
-        }
-        if a.layers.is_some() {
-            layers.push((view.id, &view.desc.name, mcc::layers::openraster::srgb8(&rendered.images.image)));
-        }
-    }
-    if let Some(path) = &a.layers {
-        let views: Vec<_> = layers
-            .iter()
-            .map(|(id, name, image)| mcc::layers::openraster::ViewLayer { id: *id, name, image })
-            .collect();
-        mcc::layers::openraster::write(path, &views)?;
-    }
+    let job = RenderViews {
+        tracer: &tracer,
+        scene: &a.scene.scene,
+        views: &views,
+        exrs: &outputs,
+        resolution: q.resolution(),
+        overscan: a.overscan,
+        frame: a.frame,
+        shutter,
+        quality,
+        rays: a.lens_writer.then(|| a.ray_format.into()),
+        tag: a.tag.then_some(code),
+        setup: Some(&setup),
+        band: a.tile,
+        resume: a.resume,
+        layers: a.layers.as_deref(),
+    };
+    let progress = ViewsTerminal { quiet: q.quiet, spp: q.spp, bars: Bars::new(q.quiet) };
+    with_threads(q.threads, || job.run(&progress))??;
     Ok(())
+}
+
+/// `render`'s progress on the terminal: each view's stages, skips and re-renders said, a line
+/// per view written (the demos' source views print theirs on stdout instead).
+pub(crate) struct ViewsTerminal {
+    /// No bars or summaries (warnings and re-renders are still said).
+    pub quiet: bool,
+    /// Samples per pixel, for the summaries.
+    pub spp: u32,
+    /// The views' stages.
+    pub bars: Bars,
+}
+
+impl JobProgress<ViewsEvent<'_>> for ViewsTerminal {
+    fn stages(&self) -> &dyn tracer::render::Progress {
+        &self.bars
+    }
+
+    fn event(&self, event: ViewsEvent) {
+        match event {
+            ViewsEvent::EmptyBand { view, band, rows } => {
+                let name = &view.desc.name;
+                eprintln!("{name}: band {band} of a {}-row image is empty: nothing to render", rows.start);
+            }
+            ViewsEvent::Finished { view, what, target } => {
+                if !self.quiet {
+                    eprintln!("{}: {what} finished in {}, skipped", view.desc.name, target.display());
+                }
+            }
+            ViewsEvent::Stale { view, what, why } => {
+                eprintln!("{}: {what}: {why}, re-rendering", view.desc.name)
+            }
+            ViewsEvent::Written { view, rendered, files } => {
+                warn_nonfinite(&view.desc.name, rendered);
+                if !self.quiet {
+                    eprintln!("{}", summary(&view.desc.name, self.spp, rendered, &files.exr));
+                    // The ray file is named by the view's frame and id (docs/design.md §4.3), not by --out.
+                    if let Some(rays) = &files.rays {
+                        eprintln!("{}: rays -> {}", view.desc.name, rays.display());
+                    }
+                }
+            }
+        }
+    }
 }

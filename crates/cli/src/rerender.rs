@@ -57,14 +57,15 @@ pub struct RerenderArgs {
 /// `--res` as `rerender` reads it (the shared help speaks of a camera's picture).
 const RES_HELP: &str = "Output resolution (default: the collage's, or the --lens file's; with --crop N, the size after the crop)";
 
-/// Renders `scene` (posed at the job's frame at `fps` frames per second) through the job's
-/// rays into `out` and its PNG beside it, whose path it returns (a band: into its band file,
-/// whose path it returns; shared with the demo).
+/// Renders `scene` (set up and posed at the job's frame as `setup` says) through the job's rays
+/// into `out` and its PNG beside it, whose path it returns (a band: into its band file, whose
+/// path it returns; shared with the demo), on `threads` threads, quietly or not.
 pub fn render_through(
     scene: &Path,
-    fps: f32,
+    setup: &SceneSetup,
     job: &Rerender,
-    q: &QualityArgs,
+    threads: Option<usize>,
+    quiet: bool,
     out: &Path,
 ) -> anyhow::Result<PathBuf> {
     // Checked before the scene is loaded and rendered: a bad value fails at once and leaves
@@ -73,14 +74,13 @@ pub fn render_through(
         let size = job.rays_size();
         bail!("--crop {} leaves nothing of a {}x{} image", job.crop, size.x, size.y);
     }
-    let setup = q.scene_setup(fps)?;
-    let loaded = load_scene(scene, &setup, q.quiet)?;
-    let posed = at_frame(&setup, loaded, job.frame, (0.0, 0.0), q.quiet)?;
+    let loaded = load_scene(scene, setup, quiet)?;
+    let posed = at_frame(setup, loaded, job.frame, (0.0, 0.0), quiet)?;
     let tracer = job.quality.tracer(&posed)?;
-    let rendered = with_threads(q.threads, || job.run(&tracer, &Bars::new(q.quiet)))??;
+    let rendered = with_threads(threads, || job.run(&tracer, &Bars::new(quiet)))??;
     warn_nonfinite("rerender", &rendered);
     let written = job.write(out, &rendered, scene)?;
-    if !q.quiet {
+    if !quiet {
         eprintln!("{}", summary("rerender", job.quality.spp, &rendered, &job.target(out)));
     }
     Ok(written)
@@ -137,7 +137,7 @@ pub fn run(a: RerenderArgs) -> anyhow::Result<()> {
     if let (Some(res), Some(w)) = (q.res, job.stretch_warning()) {
         eprintln!("warning: --res {res}: {w}");
     }
-    render_through(&a.scene, a.fps, &job, q, &a.out)?;
+    render_through(&a.scene, &q.scene_setup(a.fps)?, &job, q.threads, q.quiet, &a.out)?;
     // The remapped rays are saved only once the render has succeeded: a run that fails (a bad
     // --crop, --spp, scene …) leaves no output behind (docs/design.md §8).
     if let Some(remapped) = remapped {

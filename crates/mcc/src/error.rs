@@ -136,6 +136,15 @@ pub enum MccError {
         /// What is wrong with the ray.
         message: String,
     },
+    /// A step of a job failed: `doing` says which (the frame, the key), `source` why.
+    #[error("{doing}")]
+    Step {
+        /// The step, e.g. "frame 3: reading its rays".
+        doing: String,
+        /// What went wrong in it.
+        #[source]
+        source: Box<dyn std::error::Error + Send + Sync>,
+    },
     /// The tracer failed: writing an output (its atomic writer names the file) or rendering
     /// (the error names the camera), or the caller cancelled a render.
     #[error(transparent)]
@@ -161,6 +170,16 @@ impl MccError {
     /// Shorthand for a whole-file ray-file error about `path`.
     pub fn ray_file(path: impl Into<PathBuf>, message: impl Into<String>) -> Self {
         Self::RayFile { path: path.into(), message: message.into() }
+    }
+
+    /// This error as the failure of the step `doing` of a job.
+    pub fn during(self, doing: impl Into<String>) -> Self {
+        Self::step(doing, self)
+    }
+
+    /// The step `doing` of a job failed with `error`.
+    pub fn step(doing: impl Into<String>, error: impl std::error::Error + Send + Sync + 'static) -> Self {
+        Self::Step { doing: doing.into(), source: Box::new(error) }
     }
 
     /// Shorthand for an error about in-memory data.

@@ -7,19 +7,17 @@
 
 use super::cafe::{DemoCamera, DemoSettings, DemoView, render_tagged_views};
 use super::masks::{CAFE_MASK, CAFE_REGIONS, resize_labels, write_second_mask};
-use crate::animate::{AnimateArgs, PreviewArg, animate};
-use crate::args::{FrameRange, RayFormatArg, Resolution};
+use crate::animate::{PreviewArg, preview, render_shot};
+use crate::args::Resolution;
 use crate::collage::default_labels;
-use crate::inbetween::{InbetweenOutputArgs, ModeArg, write_inbetweens};
-use crate::setup::collage::remap;
-use crate::setup::quality::QualityArgs;
+use crate::keys::KeysTerminal;
 use anyhow::{Context, bail};
 use glam::Vec3;
-use mcc::inbetween::Keys;
-use mcc::job::{CollageFiles, RemapJob};
+use mcc::job::{Animate, Inbetween, Key, KeyFrames};
+use mcc::{CollageOptions, InbetweenMode, RayFormat, RemapConfig};
 use std::path::PathBuf;
 use std::time::Instant;
-use tracer::job::SceneSetup;
+use tracer::job::{Quality, SceneSetup};
 
 /// The animated shot.
 pub(crate) struct Shot {
@@ -41,7 +39,6 @@ pub(crate) fn run(s: &DemoSettings, shot: &Shot) -> anyhow::Result<()> {
     let views_dir = out.join("views");
     std::fs::create_dir_all(&views_dir).with_context(|| format!("creating {}", views_dir.display()))?;
     let res = s.res;
-    let q = s.quality();
     let (first, last) = (0, shot.frames - 1);
     let mut pictures: Vec<(String, PathBuf)> = Vec::new();
 
@@ -50,7 +47,7 @@ pub(crate) fn run(s: &DemoSettings, shot: &Shot) -> anyhow::Result<()> {
         DemoView { id: 1, camera: DemoCamera::Scene("left") },
         DemoView { id: 2, camera: DemoCamera::Scene("right") },
     ];
-    pictures.extend(render_tagged_views(scene_path, &key0_views, first, &views_dir, &q)?);
+    pictures.extend(render_tagged_views(scene_path, &key0_views, first, &views_dir, s)?);
     let map = mcc::compose::LabelMap::Colours(default_labels());
     let collage0 = out.join(format!("key{first:04}-collage.png"));
     // The bundled label and region images are 480x270: brought to the views' size by nearest
@@ -78,7 +75,7 @@ pub(crate) fn run(s: &DemoSettings, shot: &Shot) -> anyhow::Result<()> {
             },
         },
     ];
-    pictures.extend(render_tagged_views(scene_path, &key1_views, last, &views_dir, &q)?);
+    pictures.extend(render_tagged_views(scene_path, &key1_views, last, &views_dir, s)?);
     let mask1 = out.join(format!("key{last:04}-mask.png"));
     write_second_mask(&mask1, res.0)?;
     let collage1 = out.join(format!("key{last:04}-collage.png"));
@@ -87,44 +84,48 @@ pub(crate) fn run(s: &DemoSettings, shot: &Shot) -> anyhow::Result<()> {
     pictures.push((format!("key {last} collage"), collage1.clone()));
 
     // 3. Remap both keys and in-between every frame (what `mcctrace keys` does).
-    let key0 = CollageFiles { regions: Some(regions0), ..CollageFiles::new(&collage0, &views_dir, first) };
-    let key1 = CollageFiles::new(&collage1, &views_dir, last);
-    let mut remapped = Vec::new();
-    for (frame, input) in [(first, key0), (last, key1)] {
-        remapped.push((frame, remap(&RemapJob::new(input), s.quiet)?.output.rays));
-    }
-    let keys = Keys::new(remapped, Some(shot.frame_res.0))?;
     let lens_dir = out.join("lens");
-    let output = InbetweenOutputArgs {
-        frames: Some(FrameRange { first, last }),
+    let output = Inbetween {
+        frames: Some(first..=last),
         out: lens_dir.clone(),
-        mode: ModeArg::Smooth,
-        res: Some(shot.frame_res),
-        ray_format: RayFormatArg::Binary,
+        mode: InbetweenMode::Smooth,
+        res: Some(shot.frame_res.0),
+        format: RayFormat::Binary,
         crop: 0,
-        quiet: s.quiet,
     };
-    let written = write_inbetweens(&keys, &output)?;
+    let key = |frame, collage: &PathBuf, regions| Key {
+        frame,
+        collage: collage.clone(),
+        regions,
+        given: String::new(),
+    };
+    let keys = KeyFrames {
+        keys: vec![key(first, &collage0, Some(regions0)), key(last, &collage1, None)],
+        rays: views_dir.clone(),
+        options: CollageOptions::default(),
+        config: RemapConfig::GLASSNER,
+        output: output.clone(),
+    };
+    let written = keys.make(&KeysTerminal::new(output, s.quiet))?;
     println!("in-betweened {} frames -> {}", written.len(), lens_dir.display());
 
     // 4. Render every frame through its rays, then the preview.
     let frames_dir = out.join("frames");
-    let animate_args = AnimateArgs {
+    let framing = Animate::framing(&lens_dir, first, 0, Some(shot.frame_res.0))?
+        .map_err(|_| anyhow::anyhow!("the frames' rays are empty"))?;
+    let job = Animate {
         scene: scene_path.clone(),
         lens_dir: lens_dir.clone(),
-        frames: FrameRange { first, last },
+        frames: first..=last,
         out: frames_dir.clone(),
-        fps: SceneSetup::DEFAULT_FPS,
-        shutter: None,
+        setup: SceneSetup::default(),
+        quality: Quality { spp: shot.frame_spp, denoise: s.denoise, ..Quality::DEFAULT },
+        shutter: (0.0, 0.0),
         crop: 0,
-        preview: PreviewArg::Gif,
-        check: false,
-        quality: QualityArgs {
-            denoise: s.denoise,
-            ..QualityArgs::with(shot.frame_spp, shot.frame_res, s.threads, true)
-        },
+        framing,
     };
-    let report = animate(&animate_args)?;
+    let report = render_shot(&job, s.threads, true, None)?;
+    let gif = preview(PreviewArg::Gif, &frames_dir, SceneSetup::DEFAULT_FPS, true)?;
     println!(
         "rendered {} frames ({} already finished) at {} x {} spp -> {}",
         report.rendered.len(),
@@ -144,7 +145,7 @@ pub(crate) fn run(s: &DemoSettings, shot: &Shot) -> anyhow::Result<()> {
     }
     println!("  {:<46} {}", "in-betweened rays (one file per frame)", lens_dir.display());
     println!("  {:<46} {}", "frames (EXR + PNG)", frames_dir.display());
-    if let Some(gif) = &report.preview {
+    if let Some(gif) = &gif {
         println!("  {:<46} {}", "preview", gif.display());
     }
     Ok(())

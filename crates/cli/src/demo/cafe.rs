@@ -5,14 +5,13 @@
 use crate::args::Resolution;
 use crate::progress::Bars;
 use crate::setup::output::{summary, warn_nonfinite};
-use crate::setup::quality::QualityArgs;
 use crate::setup::scene::load_scene;
 use crate::with_threads;
 use glam::Vec3;
-use mcc::job::ViewRender;
+use mcc::job::{JobProgress, RenderViews, View, ViewsEvent};
 use std::path::{Path, PathBuf};
 use tracer::camera::{CameraDesc, Projection};
-use tracer::job::{CameraRender, Provenance, SceneSetup};
+use tracer::job::{Quality, SceneSetup};
 use tracer::scene::CameraSelector;
 
 /// What both demos are told: where to write, and how to render the source views.
@@ -35,8 +34,8 @@ pub(crate) struct DemoSettings {
 
 impl DemoSettings {
     /// The quality settings of the source views.
-    pub fn quality(&self) -> QualityArgs {
-        QualityArgs::with(self.spp, self.res, self.threads, self.quiet)
+    pub fn quality(&self) -> Quality {
+        Quality { spp: self.spp, ..Quality::DEFAULT }
     }
 }
 
@@ -89,6 +88,26 @@ pub(crate) struct DemoView {
     pub camera: DemoCamera,
 }
 
+/// The demo's source views' progress: their stages' bars, a summary on stdout per view.
+struct DemoViews {
+    spp: u32,
+    bars: Bars,
+}
+
+impl JobProgress<ViewsEvent<'_>> for DemoViews {
+    fn stages(&self) -> &dyn tracer::render::Progress {
+        &self.bars
+    }
+
+    fn event(&self, event: ViewsEvent) {
+        // Neither banded nor resumed: every view is rendered.
+        if let ViewsEvent::Written { view, rendered, files } = event {
+            warn_nonfinite(&view.desc.name, rendered);
+            println!("{}", summary(&view.desc.name, self.spp, rendered, &files.exr));
+        }
+    }
+}
+
 /// Renders `views` of the café at `frame` into `views_dir` with the lens writer and tagger;
 /// returns (caption, tagged PNG) per view.
 pub(crate) fn render_tagged_views(
@@ -96,13 +115,12 @@ pub(crate) fn render_tagged_views(
     views: &[DemoView],
     frame: u32,
     views_dir: &Path,
-    q: &QualityArgs,
+    s: &DemoSettings,
 ) -> anyhow::Result<Vec<(String, PathBuf)>> {
-    let scene = load_scene(scene_path, &SceneSetup::default(), q.quiet)?;
-    let quality = q.quality();
+    let scene = load_scene(scene_path, &SceneSetup::default(), s.quiet)?;
+    let quality = s.quality();
     let tracer = quality.tracer(&scene)?;
-    let bars = Bars::new(q.quiet);
-    let mut pictures = Vec::new();
+    let mut chosen = Vec::new();
     for view in views {
         let desc = match &view.camera {
             DemoCamera::Scene(name) => scene.camera(&CameraSelector::Name((*name).into()))?.clone(),
@@ -114,34 +132,37 @@ pub(crate) fn render_tagged_views(
                 Projection::Perspective { fov_y: fov_degrees.to_radians() },
             )?,
         };
-        let camera = desc.build(q.resolution())?;
-        let exr = views_dir.join(mcc::names::view_render_name(frame, view.id));
-        let job = ViewRender {
-            render: CameraRender {
-                tracer: &tracer,
-                camera: camera.as_ref(),
-                name: &desc.name,
-                camera_id: view.id,
-                frame,
-                shutter: (0.0, 0.0),
-                quality,
-            },
-            scene: scene_path,
-            exr: &exr,
-            rays: Some(mcc::RayFormat::Binary),
-            tag: Some(mcc::TagCode::default()),
-            provenance: Provenance { projection: Some(desc.projection), ..Provenance::default() },
-            setup: None,
-            band: None,
-        };
-        let (rendered, files) = with_threads(q.threads, || job.run(&bars))??;
-        warn_nonfinite(&desc.name, &rendered);
-        println!("{}", summary(&desc.name, q.spp, &rendered, &exr));
-        pictures.extend(
-            files.png.map(|png| (format!("frame {frame} view {} '{}' (tagged)", view.id, desc.name), png)),
-        );
+        chosen.push(View { id: view.id, desc });
     }
-    Ok(pictures)
+    let exrs: Vec<PathBuf> =
+        chosen.iter().map(|v| views_dir.join(mcc::names::view_render_name(frame, v.id))).collect();
+    let job = RenderViews {
+        tracer: &tracer,
+        scene: scene_path,
+        views: &chosen,
+        exrs: &exrs,
+        resolution: s.res.0,
+        overscan: 0,
+        frame,
+        shutter: (0.0, 0.0),
+        quality,
+        rays: Some(mcc::RayFormat::Binary),
+        tag: Some(mcc::TagCode::default()),
+        setup: None,
+        band: None,
+        resume: false,
+        layers: None,
+    };
+    let progress = DemoViews { spp: quality.spp, bars: Bars::new(s.quiet) };
+    let written = with_threads(s.threads, || job.run(&progress))??;
+    Ok(chosen
+        .iter()
+        .zip(written)
+        .filter_map(|(view, files)| {
+            let caption = format!("frame {frame} view {} '{}' (tagged)", view.id, view.desc.name);
+            files.png.map(|png| (caption, png))
+        })
+        .collect())
 }
 
 #[cfg(test)]

@@ -7,12 +7,11 @@ use super::masks::{CAFE_MASK, CAFE_REGIONS, resize_labels};
 use crate::collage::default_labels;
 use crate::rerender::render_through;
 use crate::setup::collage::remap;
-use crate::setup::quality::QualityArgs;
 use anyhow::Context;
 use mcc::job::{CollageFiles, RemapJob, Rerender};
 use std::path::PathBuf;
 use std::time::Instant;
-use tracer::job::SceneSetup;
+use tracer::job::{Quality, SceneSetup};
 
 pub(crate) fn run(s: &DemoSettings) -> anyhow::Result<()> {
     let start = Instant::now();
@@ -20,7 +19,6 @@ pub(crate) fn run(s: &DemoSettings) -> anyhow::Result<()> {
     let out = &s.out;
     let views_dir = out.join("views");
     std::fs::create_dir_all(&views_dir).with_context(|| format!("creating {}", views_dir.display()))?;
-    let q = s.quality();
     let mut pictures: Vec<(String, PathBuf)> = Vec::new();
 
     // 1. The two source views, facing each other across the table: EXR, tagged PNG, rays.
@@ -28,7 +26,7 @@ pub(crate) fn run(s: &DemoSettings) -> anyhow::Result<()> {
         DemoView { id: 1, camera: DemoCamera::Scene("left") },
         DemoView { id: 2, camera: DemoCamera::Scene("right") },
     ];
-    pictures.extend(render_tagged_views(scene_path, &views, 0, &views_dir, &q)?);
+    pictures.extend(render_tagged_views(scene_path, &views, 0, &views_dir, s)?);
 
     // 2. The collage, cut from the tagged views by the bundled label mask (red = camera 1,
     //    green = camera 2, black = the background the remapper blends), brought to the views'
@@ -54,13 +52,12 @@ pub(crate) fn run(s: &DemoSettings) -> anyhow::Result<()> {
 
     // 4. Rerender through the collage's rays.
     let final_exr = out.join("final.exr");
-    let q = QualityArgs { denoise: s.denoise, ..q };
     let job = Rerender {
         resolution: Some(s.res.0),
-        quality: q.quality(),
+        quality: Quality { denoise: s.denoise, ..s.quality() },
         ..Rerender::new(remapped.output.rays, 0)
     };
-    let final_png = render_through(scene_path, SceneSetup::DEFAULT_FPS, &job, &q, &final_exr)?;
+    let final_png = render_through(scene_path, &SceneSetup::default(), &job, s.threads, s.quiet, &final_exr)?;
     pictures.push(("final rerender".into(), final_png));
 
     println!(

@@ -122,6 +122,13 @@ impl CollageInputArgs {
 pub fn remap(job: &RemapJob, quiet: bool) -> anyhow::Result<Remapped> {
     let start = std::time::Instant::now();
     let done = job.run()?;
+    tell_remapped(job, &done, start.elapsed().as_secs_f64(), quiet);
+    Ok(done)
+}
+
+/// Says what `job` made in `seconds`: (unless quiet) its warnings, its time and its debug
+/// pictures; the seam ratio when it was asked for (even when quiet).
+pub fn tell_remapped(job: &RemapJob, done: &Remapped, seconds: f64, quiet: bool) {
     if job.config.report {
         match &done.output.seams {
             Some(seams) => println!("{}: {seams}", job.input.collage.display()),
@@ -139,11 +146,9 @@ pub fn remap(job: &RemapJob, quiet: bool) -> anyhow::Result<Remapped> {
             eprintln!("warning: {collage}: {w}");
         }
         let rays = &done.output.rays;
-        let seconds = start.elapsed().as_secs_f64();
         eprintln!("remapped {collage} ({}x{}) in {seconds:.2} s", rays.width, rays.height);
         if let Some(dir) = &job.debug_dir {
             eprintln!("debug pictures: {} files in {}", done.debug_pictures.len(), dir.display());
         }
     }
-    Ok(done)
 }

@@ -6,7 +6,7 @@ use anyhow::{Context, bail};
 use std::path::{Path, PathBuf};
 use tracer::render::Rendered;
 
-use super::scene::View;
+use mcc::job::View;
 
 /// Where each view's EXR goes: `out` itself for one view and an .exr path, else the view names
 /// `frameFFFFcameraCC.exr` in the directory `out` (created if missing).

@@ -89,30 +89,6 @@ pub enum FalloffArg {
 }
 
 impl QualityArgs {
-    /// Default settings at `spp` samples per pixel and resolution `res` (the demo's renders).
-    pub fn with(spp: u32, res: Resolution, threads: Option<usize>, quiet: bool) -> Self {
-        Self {
-            spp,
-            res: Some(res),
-            seed: Quality::DEFAULT.seed,
-            threads,
-            max_depth: Quality::DEFAULT.max_depth,
-            rr_depth: Quality::DEFAULT.rr_depth,
-            split: Quality::DEFAULT.split,
-            env: None,
-            env_map: None,
-            env_rotation: 0.0,
-            env_strength: 1.0,
-            sky: None,
-            exposure: 0.0,
-            spot_falloff: None,
-            aovs: false,
-            adaptive: false,
-            denoise: false,
-            quiet,
-        }
-    }
-
     /// The resolution asked for, or the default 640x360.
     pub fn resolution(&self) -> UVec2 {
         self.res.map_or(UVec2::new(640, 360), |r| r.0)

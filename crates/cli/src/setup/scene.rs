@@ -5,9 +5,9 @@
 use crate::args::Vec3Arg;
 use anyhow::{Context, bail};
 use clap::{Args, ValueEnum};
-use glam::UVec2;
+use mcc::job::View;
 use std::path::{Path, PathBuf};
-use tracer::camera::{Camera, CameraDesc, Overscan, Projection};
+use tracer::camera::{CameraDesc, Projection};
 use tracer::job::SceneSetup;
 use tracer::scene::{CameraSelector, DEFAULT_MOTION_STEPS, Scene};
 
@@ -63,22 +63,6 @@ pub struct SceneArgs {
     /// scene's and can be picked with --camera.
     #[arg(long, value_name = "FILE")]
     pub cameras_file: Option<PathBuf>,
-}
-
-/// A camera to render, with its view number.
-pub struct View {
-    /// The view number (1-based; names its files).
-    pub id: u32,
-    /// The camera.
-    pub desc: CameraDesc,
-}
-
-impl View {
-    /// The camera at `res`, with an overscan border of `overscan` pixels.
-    pub fn camera(&self, res: UVec2, overscan: u32) -> anyhow::Result<Box<dyn Camera>> {
-        let camera = self.desc.build(res)?;
-        Ok(if overscan > 0 { Box::new(Overscan::new(camera, overscan)) } else { camera })
-    }
 }
 
 /// Loads the scene at `path` as `setup` says, showing its warnings on stderr unless quiet.
