@@ -42,7 +42,7 @@ fn write_character(dir: &Path) -> std::path::PathBuf {
     let put = |bin: &mut Vec<u8>, bytes: &[u8]| {
         let at = bin.len();
         bin.extend_from_slice(bytes);
-        while bin.len() % 4 != 0 {
+        while !bin.len().is_multiple_of(4) {
             bin.push(0);
         }
         (at, bytes.len())

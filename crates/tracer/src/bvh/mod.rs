@@ -77,6 +77,15 @@ trait Triangles {
     fn len(&self) -> usize;
 }
 
+/// One tree as a walk sees it: its nodes, its triangles, the global slot of its first
+/// triangle and each slot's mesh triangle.
+struct Tree<'a, T> {
+    nodes: &'a [WideNode],
+    tris: T,
+    first: u32,
+    ids: &'a [u32],
+}
+
 /// Triangles that do not move.
 struct Fixed<'a>(&'a [[[f32; 3]; 3]]);
 
@@ -374,24 +383,19 @@ impl Bvh {
                 Step::Miss
             }
         };
-        let tris = Fixed(&self.triangles);
         let mut t_max = t_max;
         if !self.nodes.is_empty() {
-            let ids = &self.triangle_ids;
-            let (walk, t_left) =
-                walk::<N, true, _>(&self.nodes, &tris, 0, ids, &q, t_max, leaving, &mut on_hit);
+            let tree = self.fixed();
+            let (walk, t_left) = walk::<N, true, _>(&tree, &q, t_max, leaving, &mut on_hit);
             t_max = t_left;
             if walk == Walk::Overflow {
-                t_max = test_all(&tris, 0, ids, &q, t_max, leaving, &mut on_hit).1;
+                t_max = test_all(&tree, &q, t_max, leaving, &mut on_hit).1;
             }
         }
-        if let Some(m) = &self.motion {
-            let moving = Moving { tree: m, at: m.at(ray.time) };
-            let (first, ids) = (self.triangles.len() as u32, &m.triangle_ids);
-            let (walk, t_left) =
-                walk::<N, true, _>(&m.nodes, &moving, first, ids, &q, t_max, leaving, &mut on_hit);
+        if let Some(tree) = self.moving_at(ray.time) {
+            let (walk, t_left) = walk::<N, true, _>(&tree, &q, t_max, leaving, &mut on_hit);
             if walk == Walk::Overflow {
-                test_all(&moving, first, ids, &q, t_left, leaving, &mut on_hit);
+                test_all(&tree, &q, t_left, leaving, &mut on_hit);
             }
         }
         (best_slot != u32::MAX).then_some(Hit {
@@ -437,52 +441,61 @@ impl Bvh {
         let q = QueryRay::new(ray);
         let mut on_hit =
             |_: u32, id: u32, h: TriangleHit| if accept(id, h.b) { Step::Stop } else { Step::Miss };
-        if !self.nodes.is_empty() {
-            let (tris, ids) = (Fixed(&self.triangles), &self.triangle_ids);
-            let blocked =
-                match walk::<N, false, _>(&self.nodes, &tris, 0, ids, &q, t_max, leaving, &mut on_hit).0 {
-                    Walk::Done => false,
-                    Walk::Stopped => true,
-                    Walk::Overflow => {
-                        test_all(&tris, 0, ids, &q, t_max, leaving, &mut on_hit).0 == Walk::Stopped
-                    }
-                };
-            if blocked {
-                return true;
-            }
+        if !self.nodes.is_empty() && blocks::<N, _>(&self.fixed(), &q, t_max, leaving, &mut on_hit) {
+            return true;
         }
-        let Some(m) = &self.motion else { return false };
-        let moving = Moving { tree: m, at: m.at(ray.time) };
-        let (first, ids) = (self.triangles.len() as u32, &m.triangle_ids);
-        match walk::<N, false, _>(&m.nodes, &moving, first, ids, &q, t_max, leaving, &mut on_hit).0 {
-            Walk::Done => false,
-            Walk::Stopped => true,
-            Walk::Overflow => {
-                test_all(&moving, first, ids, &q, t_max, leaving, &mut on_hit).0 == Walk::Stopped
-            }
-        }
+        self.moving_at(ray.time).is_some_and(|tree| blocks::<N, _>(&tree, &q, t_max, leaving, &mut on_hit))
+    }
+
+    /// The static tree, for a walk.
+    #[inline(always)]
+    fn fixed(&self) -> Tree<'_, Fixed<'_>> {
+        Tree { nodes: &self.nodes, tris: Fixed(&self.triangles), first: 0, ids: &self.triangle_ids }
+    }
+
+    /// The motion tree at ray time `time`, for a walk, if there is one.
+    #[inline(always)]
+    fn moving_at(&self, time: f32) -> Option<Tree<'_, Moving<'_>>> {
+        let m = self.motion.as_deref()?;
+        let tris = Moving { tree: m, at: m.at(time) };
+        Some(Tree { nodes: &m.nodes, tris, first: self.triangles.len() as u32, ids: &m.triangle_ids })
+    }
+}
+
+/// Whether a hit that `on_hit` stops at blocks the ray in one tree (its walk, or on overflow
+/// every triangle).
+#[inline(always)]
+fn blocks<const N: usize, T: Triangles>(
+    tree: &Tree<'_, T>,
+    q: &QueryRay,
+    t_max: f32,
+    leaving: Leaving,
+    on_hit: &mut impl FnMut(u32, u32, TriangleHit) -> Step,
+) -> bool {
+    match walk::<N, false, _>(tree, q, t_max, leaving, on_hit).0 {
+        Walk::Done => false,
+        Walk::Stopped => true,
+        Walk::Overflow => test_all(tree, q, t_max, leaving, on_hit).0 == Walk::Stopped,
     }
 }
 
 /// Tests every triangle of a tree, in slot order (the fallback when a walk overflows its
-/// stack); slots are numbered from `first`, `ids` maps them to mesh triangles. Returns how it
-/// ended and the final t_max.
+/// stack). Returns how it ended and the final t_max.
 #[cold]
-fn test_all(
-    tris: &impl Triangles,
-    first: u32,
-    ids: &[u32],
+fn test_all<T: Triangles>(
+    tree: &Tree<'_, T>,
     q: &QueryRay,
     mut t_max: f32,
     leaving: Leaving,
     on_hit: &mut impl FnMut(u32, u32, TriangleHit) -> Step,
 ) -> (Walk, f32) {
-    for slot in 0..tris.len() {
+    let (tris, first) = (&tree.tris, tree.first);
+    for (slot, &id) in tree.ids.iter().enumerate().take(tris.len()) {
         if leaving.skips(first + slot as u32) {
             continue;
         }
         if let Some(h) = tris.test(&q.triangle, slot, t_max) {
-            match on_hit(first + slot as u32, ids[slot], h) {
+            match on_hit(first + slot as u32, id, h) {
                 Step::Miss => {}
                 Step::Closer(t) => t_max = t,
                 Step::Stop => return (Walk::Stopped, t_max),
@@ -497,16 +510,12 @@ fn test_all(
 /// order without (occlusion, where any hit ends the walk, so sorting buys nothing:
 /// docs/performance.md, ledger: "unsorted occlusion walk"),
 /// tests the triangles of their leaves (but those the ray is `leaving` skips) and hands
-/// each hit to `on_hit(slot, triangle, hit)` (slots numbered from `first_slot`, `ids` giving
-/// the mesh triangle), whose answer may shorten the ray or end the walk.
+/// each hit to `on_hit(slot, triangle, hit)` (slots numbered from the tree's `first`, its
+/// `ids` giving the mesh triangle), whose answer may shorten the ray or end the walk.
 /// Returns how the walk ended and the final t_max.
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
 fn walk<const N: usize, const NEAREST_FIRST: bool, T: Triangles>(
-    nodes: &[WideNode],
-    tris: &T,
-    first_slot: u32,
-    ids: &[u32],
+    tree: &Tree<'_, T>,
     q: &QueryRay,
     mut t_max: f32,
     leaving: Leaving,
@@ -514,6 +523,8 @@ fn walk<const N: usize, const NEAREST_FIRST: bool, T: Triangles>(
 ) -> (Walk, f32) {
     let mut stack = [MaybeUninit::<(u32, f32)>::uninit(); N];
     let mut len = 0usize;
+    let Tree { nodes, tris, first: first_slot, ids } = tree;
+    let first_slot = *first_slot;
     let mut node = &nodes[0];
     loop {
         let (mask, t_near) = node.intersect(&q.node, t_max);

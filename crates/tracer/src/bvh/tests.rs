@@ -70,17 +70,8 @@ fn stack_overflow_falls_back_to_every_triangle() {
     for _ in 0..1000 {
         let ray = Ray::new(rng.vec() * 6.0, rng.vec().normalize(), 0.0);
         let q = QueryRay::new(&ray);
-        let tris = Fixed(&bvh.triangles);
-        let walked = walk::<1, true, _>(
-            &bvh.nodes,
-            &tris,
-            0,
-            &bvh.triangle_ids,
-            &q,
-            f32::INFINITY,
-            Leaving::NOTHING,
-            &mut |_, _, _| Step::Miss,
-        );
+        let walked =
+            walk::<1, true, _>(&bvh.fixed(), &q, f32::INFINITY, Leaving::NOTHING, &mut |_, _, _| Step::Miss);
         overflows += (walked.0 == Walk::Overflow) as u32;
         let full = bvh.intersect(&ray, f32::INFINITY);
         assert_eq!(bvh.closest::<1>(&ray, f32::INFINITY, Leaving::NOTHING, |_, _| true), full);
