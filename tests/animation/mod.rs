@@ -26,6 +26,9 @@ use tracer::image_io::read_exr;
 // Scene time: an animated glTF written here, rendered at several frames and rates.
 mod scene_time;
 
+// Geometry motion blur: a sliding square against its time-averaged coverage.
+mod motion_blur;
+
 const CORNELL: &str = "scenes/cornell/cornell.gltf";
 
 /// The file names in `dir`, sorted.

@@ -47,13 +47,14 @@ pub struct AnimateArgs {
     /// Output directory: frameFFFF.exr and frameFFFF.png per frame, and the preview.
     #[arg(long)]
     pub out: PathBuf,
-    /// Frames per second: an animated scene is posed at frame / FPS seconds (geometry is not
-    /// blurred: it holds that pose for the whole shutter interval). Also the preview's rate.
+    /// Frames per second: an animated scene is posed at frame / FPS seconds (and over the
+    /// shutter from there, with --shutter). Also the preview's rate.
     #[arg(long, default_value_t = SceneSetup::DEFAULT_FPS)]
     pub fps: f32,
-    /// Camera motion blur: the shutter is open from OPEN to CLOSE frames after each frame's
-    /// start (0 ≤ OPEN ≤ CLOSE ≤ 1); each eye ray's time blends the ray files of frames f and
-    /// f+1. No object motion blur: moving geometry is sampled at the frame's time.
+    /// Motion blur: the shutter is open from OPEN to CLOSE frames after each frame's start
+    /// (0 ≤ OPEN ≤ CLOSE ≤ 1; Blender's shutter S at position START is 0..S); each eye ray's
+    /// time blends the ray files of frames f and f+1, and moving geometry is interpolated
+    /// between 3 motion steps over the shutter to that time.
     #[arg(long, value_name = "OPEN..CLOSE")]
     pub shutter: Option<Shutter>,
     /// Drop an N-pixel border (in the ray files' pixels) rendered with `render --overscan N`;
@@ -147,6 +148,11 @@ impl JobProgress<AnimateEvent<'_>> for ShotProgress {
                         self.frames,
                         self.out.display()
                     );
+                }
+            }
+            AnimateEvent::Warned { warning } => {
+                if !self.quiet {
+                    eprintln!("warning: {warning}");
                 }
             }
             AnimateEvent::Loaded { warnings } => {

@@ -3,7 +3,7 @@
 //! and the tagger's stamp when asked; or, with `--tile I/N`, one band of each view
 //! (docs/farm.md); a band, and with `--resume` a whole view, is skipped when already finished.
 
-use crate::args::RayFormatArg;
+use crate::args::{RayFormatArg, Shutter};
 use crate::progress::Bars;
 use crate::setup::output::{output_paths, summary, warn_nonfinite};
 use crate::setup::quality::QualityArgs;
@@ -29,6 +29,12 @@ pub struct RenderArgs {
     /// Frames per second: the scene time of frame F is F / FPS seconds.
     #[arg(long, default_value_t = SceneSetup::DEFAULT_FPS)]
     pub fps: f32,
+    /// Motion blur of what moves in an animated scene: the shutter is open from OPEN to CLOSE
+    /// frames after the frame's start (0 ≤ OPEN ≤ CLOSE ≤ 1; Blender's shutter S at position
+    /// START is 0..S). Moving meshes are sampled at 3 motion steps over it and interpolated to
+    /// each ray's time.
+    #[arg(long, value_name = "OPEN..CLOSE")]
+    pub shutter: Option<Shutter>,
     /// Output: an .exr file (one camera), or a directory that receives
     /// frameFFFFcameraCC.exr and .png per camera.
     #[arg(long)]
@@ -76,7 +82,8 @@ pub fn run(a: RenderArgs) -> anyhow::Result<()> {
     let setup = q.scene_setup(a.fps)?;
     let scene = load_scene(&a.scene.scene, &setup, q.quiet)?;
     // Pose an animated scene (cameras included) before picking cameras from it.
-    let mut scene = at_frame(&setup, scene, a.frame)?;
+    let shutter = a.shutter.map_or((0.0, 0.0), |s| (s.open, s.close));
+    let mut scene = at_frame(&setup, scene, a.frame, shutter, q.quiet)?;
     let mut views = select_views(&mut scene, &a.scene)?;
     if a.first_id == 0 {
         bail!("--first-id must be at least 1 (0 means no camera)");
@@ -103,6 +110,7 @@ pub fn run(a: RenderArgs) -> anyhow::Result<()> {
         resolution: q.resolution(),
         overscan: a.overscan,
         frame: a.frame,
+        shutter,
         quality,
         rays: a.lens_writer.then(|| a.ray_format.into()),
         tag: a.tag.then_some(code),

@@ -75,7 +75,7 @@ pub fn render_through(
         bail!("--crop {} leaves nothing of a {}x{} image", job.crop, size.x, size.y);
     }
     let loaded = load_scene(scene, setup, quiet)?;
-    let posed = at_frame(setup, loaded, job.frame)?;
+    let posed = at_frame(setup, loaded, job.frame, (0.0, 0.0), quiet)?;
     let tracer = job.quality.tracer(&posed)?;
     let rendered = with_threads(threads, || job.run(&tracer, &Bars::new(quiet)))??;
     warn_nonfinite("rerender", &rendered);

@@ -145,6 +145,7 @@ pub(crate) fn render_tagged_views(
         resolution: s.res.0,
         overscan: 0,
         frame,
+        shutter: (0.0, 0.0),
         quality,
         rays: Some(mcc::RayFormat::Binary),
         tag: Some(mcc::TagCode::default()),

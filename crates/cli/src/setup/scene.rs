@@ -9,7 +9,7 @@ use mcc::job::View;
 use std::path::{Path, PathBuf};
 use tracer::camera::{CameraDesc, Projection};
 use tracer::job::SceneSetup;
-use tracer::scene::{CameraSelector, Scene};
+use tracer::scene::{CameraSelector, DEFAULT_MOTION_STEPS, Scene};
 
 /// Camera models selectable from the command line.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -76,12 +76,28 @@ pub fn load_scene(path: &Path, setup: &SceneSetup, quiet: bool) -> anyhow::Resul
     Ok(scene)
 }
 
-/// `scene` at `frame` (an animated scene posed there, cameras included; a static one as it is).
-pub fn at_frame(setup: &SceneSetup, scene: Scene, frame: u32) -> anyhow::Result<Scene> {
-    setup.at_frame(scene, frame).with_context(|| {
-        let (seconds, fps) = (setup.frame_seconds(frame), setup.fps);
-        format!("posing the scene at frame {frame} ({seconds} s at {fps} fps)")
-    })
+/// `scene` at `frame` (an animated scene posed there, cameras included; a static one as it is),
+/// its geometry in motion over `shutter` (frames after the frame's start) at the default
+/// motion steps; what posing found to warn about is printed unless `quiet`.
+pub fn at_frame(
+    setup: &SceneSetup,
+    scene: Scene,
+    frame: u32,
+    shutter: (f32, f32),
+    quiet: bool,
+) -> anyhow::Result<Scene> {
+    let known = scene.warnings.len();
+    let posed =
+        setup.at_frame_in_shutter(scene, frame, shutter, DEFAULT_MOTION_STEPS).with_context(|| {
+            let (seconds, fps) = (setup.frame_seconds(frame), setup.fps);
+            format!("posing the scene at frame {frame} ({seconds} s at {fps} fps)")
+        })?;
+    if !quiet {
+        for w in posed.warnings.iter().skip(known) {
+            eprintln!("warning: {w}");
+        }
+    }
+    Ok(posed)
 }
 
 /// The cameras the arguments select, numbered in command-line order (after adding those of

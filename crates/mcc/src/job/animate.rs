@@ -6,10 +6,11 @@
 //! told. So a crashed run resumes and a render farm's job array can split a shot by frame ranges
 //! over a shared folder.
 //!
-//! Motion blur (a shutter interval) is camera-ray blur: each eye ray gets a time in the shutter
-//! interval and the lens reader interpolates the ray files of frames f and f+1 by it. Animated
-//! geometry is posed once per frame, at frame / fps seconds: there is no object motion blur
-//! (the BVH holds one pose per frame).
+//! Motion blur (a shutter interval): each eye ray gets a time in the shutter interval; the lens
+//! reader interpolates the ray files of frames f and f+1 by it (camera-ray blur), and an
+//! animated scene's moving geometry is posed at the motion steps over the shutter and
+//! interpolated to the ray's time (geometry blur, docs/design.md §3.12, which needs no next
+//! frame: the animation holds its last keys past its end).
 
 use super::progress::JobProgress;
 use super::rerender::{FrameRays, Framing, LENS_DIR_KEY, carrier_camera};
@@ -25,6 +26,7 @@ use tracer::job::{
 };
 use tracer::lens::LensChain;
 use tracer::render::Rendered;
+use tracer::scene::DEFAULT_MOTION_STEPS;
 
 /// The header key recording what the camera-ray blur did to a frame (with a shutter only).
 pub const RAY_BLUR_KEY: &str = "mcctrace/ray_blur";
@@ -80,6 +82,11 @@ pub enum AnimateEvent<'a> {
     Loaded {
         /// What the loader warned about.
         warnings: &'a [String],
+    },
+    /// Posing a frame over its shutter found something its blur cannot show (told once a run).
+    Warned {
+        /// The warning.
+        warning: &'a str,
     },
     /// A frame is rendered and written.
     Written {
@@ -226,6 +233,7 @@ impl Animate {
         let camera = carrier_camera(self.framing.film)?;
         let mut earlier: Option<FrameRays> = None;
         let mut sharp = Vec::new();
+        let mut told: Vec<String> = Vec::new();
         for &frame in frames {
             // Read once: hashed for the header and handed to the lens reader, which reads nothing.
             let rays = self.rays(frame, earlier.as_ref())?;
@@ -243,12 +251,20 @@ impl Animate {
                 Some(t) => t,
                 None => {
                     let setup = &self.setup;
-                    let scene = setup.pose(&base, frame).map_err(|e| {
-                        MccError::from(e).during(format!(
-                            "posing the scene at frame {frame} ({} s)",
-                            setup.frame_seconds(frame)
-                        ))
-                    })?;
+                    let scene = setup
+                        .pose_in_shutter(&base, frame, self.shutter, DEFAULT_MOTION_STEPS)
+                        .map_err(|e| {
+                            MccError::from(e).during(format!(
+                                "posing the scene at frame {frame} ({} s)",
+                                setup.frame_seconds(frame)
+                            ))
+                        })?;
+                    for w in scene.warnings.iter().skip(base.warnings.len()) {
+                        if !told.contains(w) {
+                            progress.event(AnimateEvent::Warned { warning: w });
+                            told.push(w.clone());
+                        }
+                    }
                     posed = quality.tracer(&scene)?;
                     &posed
                 }
@@ -276,7 +292,8 @@ impl Animate {
     }
 
     /// The one warning of a run whose shutter found no next frame's rays for `sharp` frames
-    /// (typically the shot's last): they are rendered sharp, and their headers say so. `flag`
+    /// (typically the shot's last): their camera rays hold over the shutter (moving geometry
+    /// still blurs), and their headers say so. `flag`
     /// names the shutter as the caller's user gave it (`--shutter 0..0.5`).
     pub fn sharp_warning(&self, sharp: &[u32], flag: &str) -> Option<String> {
         let &first = sharp.first()?;
@@ -292,8 +309,9 @@ impl Animate {
         let next = first.saturating_add(1);
         Some(format!(
             "{flag}: {frames} no next frame's ray file in {} (for frame {first}: {}), so the camera-ray \
-             blur has nothing to blend: rendered sharp, the header saying {RAY_BLUR_KEY} = none. To \
-             blur it, write the next frame's rays too (`keys` or `inbetween --frames …..={next}`)",
+             blur has nothing to blend: the camera's rays hold over the shutter, the header saying \
+             {RAY_BLUR_KEY} = none (moving geometry still blurs). To blur the camera too, write the \
+             next frame's rays (`keys` or `inbetween --frames …..={next}`)",
             self.lens_dir.display(),
             rerender_name(next, RayFormat::Binary),
         ))

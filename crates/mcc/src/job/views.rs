@@ -51,6 +51,9 @@ pub struct RenderViews<'a> {
     pub overscan: u32,
     /// The frame (names the ray files; recorded in the header).
     pub frame: u32,
+    /// When the shutter opens and closes, in frames after the frame's start (the scene given
+    /// in motion over it: `SceneSetup::at_frame_in_shutter`); `(0, 0)`: none.
+    pub shutter: (f32, f32),
     /// Sampling settings.
     pub quality: Quality,
     /// Record the pixel-centre rays in this encoding.
@@ -125,7 +128,7 @@ impl RenderViews<'_> {
                     name: &view.desc.name,
                     camera_id: view.id,
                     frame: self.frame,
-                    shutter: (0.0, 0.0),
+                    shutter: self.shutter,
                     quality: self.quality,
                 },
                 scene: self.scene,

@@ -84,44 +84,52 @@ impl SlotSides {
 }
 
 /// The sides of every slot, given the leaves as (first slot, count) and the triangles in slot
-/// order.
+/// order. Slots are independent of each other: they are computed in parallel (a refit does
+/// this every frame), each by the same arithmetic whatever the thread.
 pub(super) fn slot_sides(leaves: &[(u32, u32)], triangles: &[[[f32; 3]; 3]]) -> Vec<SlotSides> {
-    // A slot in no leaf (there is none in a tree obvhs built) would skip only itself.
-    let mut sides: Vec<SlotSides> = (0..triangles.len() as u32)
-        .map(|s| SlotSides { normal: [0.0; 3], leaf_first: s, behind: 1, in_front: 1 })
-        .collect();
+    use rayon::prelude::*;
+    // A slot in no leaf (there is none in a tree obvhs built) skips only itself.
+    let mut leaf_of: Vec<Option<(u32, u32)>> = vec![None; triangles.len()];
     for &(first, count) in leaves {
         // Masks hold eight slots; obvhs's leaves hold at most three triangles.
-        let leaf = first..(first + count).min(first + 8);
-        for s in leaf.clone() {
-            let tri = &triangles[s as usize];
-            let own = 1u8 << (s - first);
-            let side = &mut sides[s as usize];
-            *side = SlotSides { normal: [0.0; 3], leaf_first: first, behind: own, in_front: own };
-            // A thin triangle's normal cannot tell sides: it skips only itself.
-            let Some(normal) = normal_of(tri) else { continue };
-            side.normal = normal;
-            for m in leaf.clone().filter(|&m| m != s) {
-                // orient3d > 0: below the plane, seen so that the corners run counter-clockwise
-                // from above; that is, behind the front face. A shared corner lies on the plane
-                // exactly, and saying so directly spares the predicate its slowest, exact path.
-                let orient = triangles[m as usize].map(|v| {
-                    if tri.contains(&v) {
-                        0.0
-                    } else {
-                        robust::orient3d(coord(tri[0]), coord(tri[1]), coord(tri[2]), coord(v))
-                    }
-                });
-                if orient.iter().all(|&o| o >= 0.0) {
-                    side.behind |= 1 << (m - first);
-                }
-                if orient.iter().all(|&o| o <= 0.0) {
-                    side.in_front |= 1 << (m - first);
-                }
-            }
+        let end = (first + count).min(first + 8);
+        for s in first..end {
+            leaf_of[s as usize] = Some((first, end));
         }
     }
-    sides
+    leaf_of.par_iter().enumerate().map(|(s, &leaf)| side_of(s as u32, leaf, triangles)).collect()
+}
+
+/// Slot `s`'s sides, its leaf being slots `first..end`.
+fn side_of(s: u32, leaf: Option<(u32, u32)>, triangles: &[[[f32; 3]; 3]]) -> SlotSides {
+    let Some((first, end)) = leaf else {
+        return SlotSides { normal: [0.0; 3], leaf_first: s, behind: 1, in_front: 1 };
+    };
+    let tri = &triangles[s as usize];
+    let own = 1u8 << (s - first);
+    let mut side = SlotSides { normal: [0.0; 3], leaf_first: first, behind: own, in_front: own };
+    // A thin triangle's normal cannot tell sides: it skips only itself.
+    let Some(normal) = normal_of(tri) else { return side };
+    side.normal = normal;
+    for m in (first..end).filter(|&m| m != s) {
+        // orient3d > 0: below the plane, seen so that the corners run counter-clockwise
+        // from above; that is, behind the front face. A shared corner lies on the plane
+        // exactly, and saying so directly spares the predicate its slowest, exact path.
+        let orient = triangles[m as usize].map(|v| {
+            if tri.contains(&v) {
+                0.0
+            } else {
+                robust::orient3d(coord(tri[0]), coord(tri[1]), coord(tri[2]), coord(v))
+            }
+        });
+        if orient.iter().all(|&o| o >= 0.0) {
+            side.behind |= 1 << (m - first);
+        }
+        if orient.iter().all(|&o| o <= 0.0) {
+            side.in_front |= 1 << (m - first);
+        }
+    }
+    side
 }
 
 fn coord(p: [f32; 3]) -> robust::Coord3D<f32> {

@@ -15,17 +15,21 @@
 //! - the triangle test is our watertight one (`crate::triangle`), in world space on the
 //!   original vertices (obvhs's Möller–Trumbore test is not watertight);
 //! - a ray spawned at a hit skips the triangle it leaves and the leaf-mates wholly behind it
-//!   (`leaving.rs`): those tests could only miss.
+//!   (`leaving.rs`): those tests could only miss;
+//! - triangles that move within the shutter have a tree of their own (`motion.rs`), walked
+//!   after the static one at the ray's time; a scene without motion has none.
 
 mod leaving;
+mod motion;
 mod node;
 
 use crate::ray::Ray;
-use crate::scene::Mesh;
+use crate::scene::{Mesh, SceneMotion};
 use crate::triangle::{TriangleHit, WatertightRay};
 use glam::Vec3;
 pub use leaving::Leaving;
 use leaving::SlotSides;
+use motion::{MotionTree, Moving};
 use node::{NodeRay, WideNode};
 use obvhs::BvhBuildParams;
 use obvhs::aabb::Aabb;
@@ -44,6 +48,8 @@ pub struct Hit {
     pub slot: u32,
     /// Barycentric weights of the triangle's three corners at the hit.
     pub barycentrics: [f32; 3],
+    /// The ray's time (frames): where a moving triangle was when it was hit.
+    pub time: f32,
 }
 
 /// A bounding-volume hierarchy over a mesh's triangles.
@@ -56,8 +62,42 @@ pub struct Bvh {
     triangle_ids: Vec<u32>,
     /// Triangle index in the mesh → slot.
     slot_of: Vec<u32>,
-    /// Per slot: its plane and the leaf-mates on each side (what rays leaving it skip).
+    /// Per static slot: its plane and the leaf-mates on each side (what rays leaving it skip).
     sides: Vec<SlotSides>,
+    /// The triangles that move within the shutter, in slots after the static ones; `None`
+    /// when nothing moves.
+    motion: Option<Box<MotionTree>>,
+}
+
+/// A tree's triangles as its walk tests them: static corners, or moving ones at a time.
+trait Triangles {
+    /// The hit of `ray` on the triangle in (this tree's) `slot` within (0, t_max).
+    fn test(&self, ray: &WatertightRay, slot: usize, t_max: f32) -> Option<TriangleHit>;
+    /// How many triangles.
+    fn len(&self) -> usize;
+}
+
+/// One tree as a walk sees it: its nodes, its triangles, the global slot of its first
+/// triangle and each slot's mesh triangle.
+struct Tree<'a, T> {
+    nodes: &'a [WideNode],
+    tris: T,
+    first: u32,
+    ids: &'a [u32],
+}
+
+/// Triangles that do not move.
+struct Fixed<'a>(&'a [[[f32; 3]; 3]]);
+
+impl Triangles for Fixed<'_> {
+    #[inline(always)]
+    fn test(&self, ray: &WatertightRay, slot: usize, t_max: f32) -> Option<TriangleHit> {
+        ray.intersect(&self.0[slot], t_max)
+    }
+
+    fn len(&self) -> usize {
+        self.0.len()
+    }
 }
 
 /// Everything a query needs about its ray, computed once.
@@ -161,56 +201,136 @@ fn build_in_range(mut aabbs: Vec<Aabb>) -> CwBvh {
 impl Bvh {
     /// Builds the BVH over every triangle of `mesh` (obvhs medium preset).
     pub fn build(mesh: &Mesh) -> Self {
-        let aabbs: Vec<Aabb> = (0..mesh.triangle_count())
-            .map(|t| {
-                let [a, b, c] = mesh.corners(t).map(glam::Vec3A::from);
+        Self::build_static(mesh, (0..mesh.triangle_count() as u32).collect())
+    }
+
+    /// Builds the BVH over `mesh` whose triangles `moving` (one flag per triangle) move as
+    /// `motion`'s steps say: those go in the motion tree, answered at each ray's time, the rest
+    /// in the static tree exactly as [`Bvh::build`] would hold them.
+    pub fn build_moving(mesh: &Mesh, motion: &SceneMotion, moving: &[bool]) -> Self {
+        debug_assert_eq!(moving.len(), mesh.triangle_count());
+        let (mut still, mut moved) = (Vec::new(), Vec::new());
+        for (t, &m) in moving.iter().enumerate() {
+            if m { moved.push(t as u32) } else { still.push(t as u32) }
+        }
+        let mut bvh = Self::build_static(mesh, still);
+        if !moved.is_empty() {
+            let tree = MotionTree::build(mesh, motion, &moved);
+            let first = bvh.triangles.len() as u32;
+            bvh.slot_of.resize(mesh.triangle_count(), 0);
+            for (slot, &t) in tree.triangle_ids.iter().enumerate() {
+                bvh.slot_of[t as usize] = first + slot as u32;
+            }
+            bvh.motion = Some(Box::new(tree));
+        }
+        bvh
+    }
+
+    /// The static tree over the mesh triangles `ids`.
+    fn build_static(mesh: &Mesh, ids: Vec<u32>) -> Self {
+        let aabbs: Vec<Aabb> = ids
+            .iter()
+            .map(|&t| {
+                let [a, b, c] = mesh.corners(t as usize).map(glam::Vec3A::from);
                 Aabb::new(a.min(b).min(c), a.max(b).max(c))
             })
             .collect();
         let cwbvh = if aabbs.is_empty() { CwBvh::default() } else { build_in_range(aabbs) };
-        let triangle_ids = cwbvh.primitive_indices.clone();
+        let triangle_ids: Vec<u32> = cwbvh.primitive_indices.iter().map(|&i| ids[i as usize]).collect();
         let triangles: Vec<[[f32; 3]; 3]> =
             triangle_ids.iter().map(|&t| mesh.corners(t as usize).map(|p| p.to_array())).collect();
-        let mut slot_of = vec![0u32; triangle_ids.len()];
+        let mut slot_of = vec![0u32; mesh.triangle_count()];
         for (slot, &t) in triangle_ids.iter().enumerate() {
             slot_of[t as usize] = slot as u32;
         }
-        let nodes = if triangles.is_empty() { Vec::new() } else { widen(&cwbvh, &triangles) };
-        let leaves: Vec<(u32, u32)> = nodes
-            .iter()
-            .flat_map(|n| (0..8).filter(|&c| n.leaves >> c & 1 != 0).map(|c| (n.index[c], n.count[c] as u32)))
-            .collect();
-        let sides = leaving::slot_sides(&leaves, &triangles);
-        Self { nodes, triangles, triangle_ids, slot_of, sides }
+        let nodes = if triangles.is_empty() { Vec::new() } else { widen(&cwbvh, &triangles, 1) };
+        let sides = sides_of(&nodes, &triangles);
+        Self { nodes, triangles, triangle_ids, slot_of, sides, motion: None }
+    }
+
+    /// Refits the tree to `mesh` with its vertices moved (the same triangles: a skinned or
+    /// morphing scene at another frame): every triangle and box updated in place, the tree's
+    /// structure kept, no new build. Cheaper than [`Bvh::build`] by far, at the price of
+    /// looser boxes where the pose strays far from the one the tree was built for. False (and
+    /// nothing changed) when `mesh` has other triangles or the tree has moving ones.
+    pub fn refit(&mut self, mesh: &Mesh) -> bool {
+        if self.motion.is_some() || mesh.triangle_count() != self.slot_of.len() {
+            return false;
+        }
+        for (tri, &t) in self.triangles.iter_mut().zip(&self.triangle_ids) {
+            *tri = mesh.corners(t as usize).map(|p| p.to_array());
+        }
+        fit_boxes(&mut self.nodes, &self.triangles, 1);
+        self.sides = sides_of(&self.nodes, &self.triangles);
+        true
     }
 
     /// What a ray spawned at a hit on the triangle in `slot`, along `direction`, skips: that
-    /// triangle, and the triangles of its leaf wholly on the other side of its plane.
+    /// triangle, and (a static one) the triangles of its leaf wholly on the other side of its
+    /// plane. A moving triangle's plane depends on the time: its ray skips only itself, which
+    /// it cannot hit again at the same time.
     #[inline(always)]
     pub fn leaving(&self, slot: u32, direction: Vec3) -> Leaving {
-        self.sides[slot as usize].leaving(slot, direction)
+        match self.sides.get(slot as usize) {
+            Some(sides) => sides.leaving(slot, direction),
+            None => Leaving::slot(slot),
+        }
     }
 
     /// Number of triangles.
     pub fn len(&self) -> usize {
-        self.triangles.len()
+        self.triangles.len() + self.motion.as_ref().map_or(0, |m| m.triangle_ids.len())
     }
 
     /// True when the BVH holds no triangle.
     pub fn is_empty(&self) -> bool {
-        self.triangles.is_empty()
+        self.len() == 0
     }
 
-    /// The world-space corners of mesh triangle `triangle` (by its index in the mesh).
+    /// True when some triangle moves within the shutter.
+    pub fn has_motion(&self) -> bool {
+        self.motion.is_some()
+    }
+
+    /// The world-space corners of mesh triangle `triangle` (by its index in the mesh); a
+    /// moving triangle's at the shutter's opening.
     #[inline]
     pub fn triangle_corners_by_id(&self, triangle: u32) -> [Vec3; 3] {
-        self.triangles[self.slot_of[triangle as usize] as usize].map(Vec3::from_array)
+        self.triangle_at(self.slot_of[triangle as usize], f32::NEG_INFINITY).map(Vec3::from_array)
     }
 
-    /// The world-space corners of the triangle in `slot`.
+    /// The world-space corners of the triangle in `slot` at ray time `time` (frames); a static
+    /// triangle's are the same at every time.
+    #[inline(always)]
+    pub fn triangle_at(&self, slot: u32, time: f32) -> [[f32; 3]; 3] {
+        match self.triangles.get(slot as usize) {
+            Some(tri) => *tri,
+            None => self.moving(slot).map_or([[0.0; 3]; 3], |(m, s)| m.corners_at(s, m.at(time))),
+        }
+    }
+
+    /// True when the triangle in `slot` moves within the shutter.
+    #[inline(always)]
+    pub fn is_moving(&self, slot: u32) -> bool {
+        slot as usize >= self.triangles.len()
+    }
+
+    /// Where ray time `time` falls between the motion steps, as (the step before it, the
+    /// fraction to the next): what a moving triangle's attributes are interpolated by. (0, 0)
+    /// when nothing moves.
     #[inline]
-    pub fn triangle(&self, slot: u32) -> &[[f32; 3]; 3] {
-        &self.triangles[slot as usize]
+    pub fn motion_step(&self, time: f32) -> (usize, f32) {
+        self.motion.as_ref().map_or((0, 0.0), |m| {
+            let at = m.at(time);
+            (at.step, at.f)
+        })
+    }
+
+    /// The motion tree and its own slot for global `slot`, if that is a moving triangle's.
+    #[inline(always)]
+    fn moving(&self, slot: u32) -> Option<(&MotionTree, usize)> {
+        let s = (slot as usize).checked_sub(self.triangles.len())?;
+        self.motion.as_deref().filter(|m| s < m.triangle_ids.len()).map(|m| (m, s))
     }
 
     /// The closest hit along `ray` in (0, t_max), if any.
@@ -242,7 +362,7 @@ impl Bvh {
         leaving: Leaving,
         accept: impl Fn(u32, [f32; 3]) -> bool,
     ) -> Option<Hit> {
-        if self.nodes.is_empty() {
+        if self.nodes.is_empty() && self.motion.is_none() {
             return None;
         }
         let q = QueryRay::new(ray);
@@ -250,11 +370,12 @@ impl Bvh {
         // one's barycentrics with an 8-byte load across two 4-byte stores, which the CPU
         // cannot forward, so every accepted hit stalled
         // (docs/performance.md, ledger: "closest hit in scalars").
-        let mut best_slot = u32::MAX;
+        let (mut best_slot, mut best_id) = (u32::MAX, 0);
         let (mut t, mut b0, mut b1, mut b2) = (0.0, 0.0, 0.0, 0.0);
-        let mut on_hit = |slot: u32, h: TriangleHit| {
-            if accept(self.triangle_ids[slot as usize], h.b) {
+        let mut on_hit = |slot: u32, id: u32, h: TriangleHit| {
+            if accept(id, h.b) {
                 best_slot = slot;
+                best_id = id;
                 t = h.t;
                 [b0, b1, b2] = h.b;
                 Step::Closer(h.t)
@@ -262,14 +383,27 @@ impl Bvh {
                 Step::Miss
             }
         };
-        if let (Walk::Overflow, t_max) = self.walk::<N, true>(&q, t_max, leaving, &mut on_hit) {
-            self.test_all(&q, t_max, leaving, &mut on_hit);
+        let mut t_max = t_max;
+        if !self.nodes.is_empty() {
+            let tree = self.fixed();
+            let (walk, t_left) = walk::<N, true, _>(&tree, &q, t_max, leaving, &mut on_hit);
+            t_max = t_left;
+            if walk == Walk::Overflow {
+                t_max = test_all(&tree, &q, t_max, leaving, &mut on_hit).1;
+            }
         }
-        (best_slot != u32::MAX).then(|| Hit {
+        if let Some(tree) = self.moving_at(ray.time) {
+            let (walk, t_left) = walk::<N, true, _>(&tree, &q, t_max, leaving, &mut on_hit);
+            if walk == Walk::Overflow {
+                test_all(&tree, &q, t_left, leaving, &mut on_hit);
+            }
+        }
+        (best_slot != u32::MAX).then_some(Hit {
             t,
-            triangle: self.triangle_ids[best_slot as usize],
+            triangle: best_id,
             slot: best_slot,
             barycentrics: [b0, b1, b2],
+            time: ray.time,
         })
     }
 
@@ -301,167 +435,217 @@ impl Bvh {
         leaving: Leaving,
         accept: impl Fn(u32, [f32; 3]) -> bool,
     ) -> bool {
-        if self.nodes.is_empty() {
+        if self.nodes.is_empty() && self.motion.is_none() {
             return false;
         }
         let q = QueryRay::new(ray);
-        let mut on_hit = |slot: u32, h: TriangleHit| {
-            if accept(self.triangle_ids[slot as usize], h.b) { Step::Stop } else { Step::Miss }
-        };
-        match self.walk::<N, false>(&q, t_max, leaving, &mut on_hit).0 {
-            Walk::Done => false,
-            Walk::Stopped => true,
-            Walk::Overflow => self.test_all(&q, t_max, leaving, &mut on_hit) == Walk::Stopped,
+        let mut on_hit =
+            |_: u32, id: u32, h: TriangleHit| if accept(id, h.b) { Step::Stop } else { Step::Miss };
+        if !self.nodes.is_empty() && blocks::<N, _>(&self.fixed(), &q, t_max, leaving, &mut on_hit) {
+            return true;
         }
+        self.moving_at(ray.time).is_some_and(|tree| blocks::<N, _>(&tree, &q, t_max, leaving, &mut on_hit))
     }
 
-    /// Tests every triangle, in slot order (the fallback when a walk overflows its stack).
-    #[cold]
-    fn test_all(
-        &self,
-        q: &QueryRay,
-        mut t_max: f32,
-        leaving: Leaving,
-        on_hit: &mut impl FnMut(u32, TriangleHit) -> Step,
-    ) -> Walk {
-        for (slot, tri) in self.triangles.iter().enumerate() {
-            if leaving.skips(slot as u32) {
-                continue;
-            }
-            if let Some(h) = q.triangle.intersect(tri, t_max) {
-                match on_hit(slot as u32, h) {
-                    Step::Miss => {}
-                    Step::Closer(t) => t_max = t,
-                    Step::Stop => return Walk::Stopped,
-                }
-            }
-        }
-        Walk::Done
-    }
-
-    /// Visits every node whose box the ray enters within (0, t_max), nearest first with
-    /// `NEAREST_FIRST` (closest-hit queries, where a near hit culls the far boxes) and in slot
-    /// order without (occlusion, where any hit ends the walk, so sorting buys nothing:
-    /// docs/performance.md, ledger: "unsorted occlusion walk"),
-    /// tests the triangles of their leaves (but those the ray is `leaving` skips) and hands
-    /// each hit to `on_hit(slot, hit)`, whose answer may shorten the ray or end the walk.
-    /// Returns how the walk ended and the final t_max.
+    /// The static tree, for a walk.
     #[inline(always)]
-    fn walk<const N: usize, const NEAREST_FIRST: bool>(
-        &self,
-        q: &QueryRay,
-        mut t_max: f32,
-        leaving: Leaving,
-        on_hit: &mut impl FnMut(u32, TriangleHit) -> Step,
-    ) -> (Walk, f32) {
-        let mut stack = [MaybeUninit::<(u32, f32)>::uninit(); N];
-        let mut len = 0usize;
-        let mut node = &self.nodes[0];
-        loop {
-            let (mask, t_near) = node.intersect(&q.node, t_max);
-            let mut leaves = mask & node.leaves as u32;
-            while leaves != 0 {
-                let c = leaves.trailing_zeros() as usize;
-                leaves &= leaves - 1;
-                let first = node.index[c];
-                for slot in first..first + node.count[c] as u32 {
-                    if leaving.skips(slot) {
-                        continue;
-                    }
-                    let Some(h) = q.triangle.intersect(&self.triangles[slot as usize], t_max) else {
-                        continue;
-                    };
-                    match on_hit(slot, h) {
-                        Step::Miss => {}
-                        Step::Closer(t) => t_max = t,
-                        Step::Stop => return (Walk::Stopped, t_max),
-                    }
-                }
+    fn fixed(&self) -> Tree<'_, Fixed<'_>> {
+        Tree { nodes: &self.nodes, tris: Fixed(&self.triangles), first: 0, ids: &self.triangle_ids }
+    }
+
+    /// The motion tree at ray time `time`, for a walk, if there is one.
+    #[inline(always)]
+    fn moving_at(&self, time: f32) -> Option<Tree<'_, Moving<'_>>> {
+        let m = self.motion.as_deref()?;
+        let tris = Moving { tree: m, at: m.at(time) };
+        Some(Tree { nodes: &m.nodes, tris, first: self.triangles.len() as u32, ids: &m.triangle_ids })
+    }
+}
+
+/// Whether a hit that `on_hit` stops at blocks the ray in one tree (its walk, or on overflow
+/// every triangle).
+#[inline(always)]
+fn blocks<const N: usize, T: Triangles>(
+    tree: &Tree<'_, T>,
+    q: &QueryRay,
+    t_max: f32,
+    leaving: Leaving,
+    on_hit: &mut impl FnMut(u32, u32, TriangleHit) -> Step,
+) -> bool {
+    match walk::<N, false, _>(tree, q, t_max, leaving, on_hit).0 {
+        Walk::Done => false,
+        Walk::Stopped => true,
+        Walk::Overflow => test_all(tree, q, t_max, leaving, on_hit).0 == Walk::Stopped,
+    }
+}
+
+/// Tests every triangle of a tree, in slot order (the fallback when a walk overflows its
+/// stack). Returns how it ended and the final t_max.
+#[cold]
+fn test_all<T: Triangles>(
+    tree: &Tree<'_, T>,
+    q: &QueryRay,
+    mut t_max: f32,
+    leaving: Leaving,
+    on_hit: &mut impl FnMut(u32, u32, TriangleHit) -> Step,
+) -> (Walk, f32) {
+    let (tris, first) = (&tree.tris, tree.first);
+    for (slot, &id) in tree.ids.iter().enumerate().take(tris.len()) {
+        if leaving.skips(first + slot as u32) {
+            continue;
+        }
+        if let Some(h) = tris.test(&q.triangle, slot, t_max) {
+            match on_hit(first + slot as u32, id, h) {
+                Step::Miss => {}
+                Step::Closer(t) => t_max = t,
+                Step::Stop => return (Walk::Stopped, t_max),
             }
-            // Inner children go on the stack farthest first, so the nearest comes off next (or,
-            // unsorted, in reverse slot order).
-            let mut inner = mask & node.inner as u32;
-            let mut order = [(0u32, 0.0f32); 8];
-            let mut n = 0;
-            while inner != 0 {
-                let c = inner.trailing_zeros() as usize;
-                inner &= inner - 1;
-                let entry = (node.index[c], t_near[c]);
-                let mut i = n;
-                while NEAREST_FIRST && i > 0 && order[i - 1].1 < entry.1 {
-                    order[i] = order[i - 1];
-                    i -= 1;
-                }
-                order[i] = entry;
-                n += 1;
-            }
-            if n > 0 {
-                // Descend into the nearest child now; the others wait on the stack.
-                for &entry in &order[..n - 1] {
-                    let Some(slot) = stack.get_mut(len) else { return (Walk::Overflow, t_max) };
-                    slot.write(entry);
-                    len += 1;
-                }
-                if order[n - 1].1 <= t_max {
-                    node = &self.nodes[order[n - 1].0 as usize];
+        }
+    }
+    (Walk::Done, t_max)
+}
+
+/// Visits every node whose box the ray enters within (0, t_max), nearest first with
+/// `NEAREST_FIRST` (closest-hit queries, where a near hit culls the far boxes) and in slot
+/// order without (occlusion, where any hit ends the walk, so sorting buys nothing:
+/// docs/performance.md, ledger: "unsorted occlusion walk"),
+/// tests the triangles of their leaves (but those the ray is `leaving` skips) and hands
+/// each hit to `on_hit(slot, triangle, hit)` (slots numbered from the tree's `first`, its
+/// `ids` giving the mesh triangle), whose answer may shorten the ray or end the walk.
+/// Returns how the walk ended and the final t_max.
+#[inline(always)]
+fn walk<const N: usize, const NEAREST_FIRST: bool, T: Triangles>(
+    tree: &Tree<'_, T>,
+    q: &QueryRay,
+    mut t_max: f32,
+    leaving: Leaving,
+    on_hit: &mut impl FnMut(u32, u32, TriangleHit) -> Step,
+) -> (Walk, f32) {
+    let mut stack = [MaybeUninit::<(u32, f32)>::uninit(); N];
+    let mut len = 0usize;
+    let Tree { nodes, tris, first: first_slot, ids } = tree;
+    let first_slot = *first_slot;
+    let mut node = &nodes[0];
+    loop {
+        let (mask, t_near) = node.intersect(&q.node, t_max);
+        let mut leaves = mask & node.leaves as u32;
+        while leaves != 0 {
+            let c = leaves.trailing_zeros() as usize;
+            leaves &= leaves - 1;
+            let first = node.index[c];
+            for slot in first..first + node.count[c] as u32 {
+                if leaving.skips(first_slot + slot) {
                     continue;
                 }
+                let Some(h) = tris.test(&q.triangle, slot as usize, t_max) else {
+                    continue;
+                };
+                match on_hit(first_slot + slot, ids[slot as usize], h) {
+                    Step::Miss => {}
+                    Step::Closer(t) => t_max = t,
+                    Step::Stop => return (Walk::Stopped, t_max),
+                }
             }
-            // The nearest node still in range (a hit found since it was pushed may be nearer).
-            loop {
-                if len == 0 {
-                    return (Walk::Done, t_max);
-                }
-                len -= 1;
-                // SAFETY: every entry below `len` was written by the push above.
-                let (index, t) = unsafe { stack[len].assume_init() };
-                if t <= t_max {
-                    node = &self.nodes[index as usize];
-                    break;
-                }
+        }
+        // Inner children go on the stack farthest first, so the nearest comes off next (or,
+        // unsorted, in reverse slot order).
+        let mut inner = mask & node.inner as u32;
+        let mut order = [(0u32, 0.0f32); 8];
+        let mut n = 0;
+        while inner != 0 {
+            let c = inner.trailing_zeros() as usize;
+            inner &= inner - 1;
+            let entry = (node.index[c], t_near[c]);
+            let mut i = n;
+            while NEAREST_FIRST && i > 0 && order[i - 1].1 < entry.1 {
+                order[i] = order[i - 1];
+                i -= 1;
+            }
+            order[i] = entry;
+            n += 1;
+        }
+        if n > 0 {
+            // Descend into the nearest child now; the others wait on the stack.
+            for &entry in &order[..n - 1] {
+                let Some(slot) = stack.get_mut(len) else { return (Walk::Overflow, t_max) };
+                slot.write(entry);
+                len += 1;
+            }
+            if order[n - 1].1 <= t_max {
+                node = &nodes[order[n - 1].0 as usize];
+                continue;
+            }
+        }
+        // The nearest node still in range (a hit found since it was pushed may be nearer).
+        loop {
+            if len == 0 {
+                return (Walk::Done, t_max);
+            }
+            len -= 1;
+            // SAFETY: every entry below `len` was written by the push above.
+            let (index, t) = unsafe { stack[len].assume_init() };
+            if t <= t_max {
+                node = &nodes[index as usize];
+                break;
             }
         }
     }
 }
 
 /// The obvhs tree with exact child boxes: node i here is obvhs's node i; a leaf child's box
-/// is the box of its triangles, an inner child's the union of its children's.
-fn widen(cwbvh: &CwBvh, triangles: &[[[f32; 3]; 3]]) -> Vec<WideNode> {
-    // Parents before children (depth-first from the root), so the reverse order sees every
-    // child's box before its parent needs it.
-    let mut order = Vec::with_capacity(cwbvh.nodes.len());
-    let mut pending = vec![0usize];
-    while let Some(i) = pending.pop() {
-        order.push(i);
-        let src = &cwbvh.nodes[i];
-        pending.extend(
-            (0..8)
-                .filter(|&c| !src.is_child_empty(c) && !src.is_leaf(c))
-                .map(|c| src.child_node_index(c) as usize),
-        );
-    }
+/// is the box of its triangles, an inner child's the union of its children's. `triangles`
+/// holds `stride` corner sets per slot (a moving triangle's at every step, whose box is the
+/// union of all).
+fn widen(cwbvh: &CwBvh, triangles: &[[[f32; 3]; 3]], stride: usize) -> Vec<WideNode> {
     let mut nodes = vec![WideNode::EMPTY; cwbvh.nodes.len()];
-    let mut bounds = vec![None::<(Vec3, Vec3)>; cwbvh.nodes.len()];
-    for &i in order.iter().rev() {
-        let src = &cwbvh.nodes[i];
-        let wide = &mut nodes[i];
-        let mut total: Option<(Vec3, Vec3)> = None;
+    for (src, wide) in cwbvh.nodes.iter().zip(&mut nodes) {
         for c in 0..8 {
             if src.is_child_empty(c) {
                 continue;
             }
-            let child_box = if src.is_leaf(c) {
+            if src.is_leaf(c) {
                 let (first, count) = src.child_primitives(c);
                 wide.index[c] = first;
                 wide.count[c] = count as u8;
                 wide.leaves |= 1 << c;
-                let corners = triangles[first as usize..(first + count) as usize].iter().flatten();
-                corners.fold(None, |b, &p| Some(grow(b, Vec3::from_array(p))))
             } else {
-                let child = src.child_node_index(c) as usize;
-                wide.index[c] = child as u32;
+                wide.index[c] = src.child_node_index(c);
                 wide.inner |= 1 << c;
-                bounds[child]
+            }
+        }
+    }
+    fit_boxes(&mut nodes, triangles, stride);
+    nodes
+}
+
+/// Sets every child box of `nodes` (whose structure is set) from `triangles` (`stride` corner
+/// sets per slot): what building does once and refitting does per frame.
+fn fit_boxes(nodes: &mut [WideNode], triangles: &[[[f32; 3]; 3]], stride: usize) {
+    if nodes.is_empty() {
+        return;
+    }
+    // Parents before children (depth-first from the root), so the reverse order sees every
+    // child's box before its parent needs it.
+    let mut order = Vec::with_capacity(nodes.len());
+    let mut pending = vec![0usize];
+    while let Some(i) = pending.pop() {
+        order.push(i);
+        let n = &nodes[i];
+        pending.extend((0..8).filter(|&c| n.inner >> c & 1 != 0).map(|c| n.index[c] as usize));
+    }
+    let mut bounds = vec![None::<(Vec3, Vec3)>; nodes.len()];
+    for &i in order.iter().rev() {
+        let wide = &mut nodes[i];
+        let mut total: Option<(Vec3, Vec3)> = None;
+        for c in 0..8 {
+            let child_box = if wide.leaves >> c & 1 != 0 {
+                let (first, count) = (wide.index[c] as usize, wide.count[c] as usize);
+                let corners = triangles[first * stride..(first + count) * stride].iter().flatten();
+                corners.fold(None, |b, &p| Some(grow(b, Vec3::from_array(p))))
+            } else if wide.inner >> c & 1 != 0 {
+                bounds[wide.index[c] as usize]
+            } else {
+                continue;
             };
             if let Some((lo, hi)) = child_box {
                 wide.set_box(c, lo, hi);
@@ -470,7 +654,15 @@ fn widen(cwbvh: &CwBvh, triangles: &[[[f32; 3]; 3]]) -> Vec<WideNode> {
         }
         bounds[i] = total;
     }
-    nodes
+}
+
+/// Every slot's sides (`leaving.rs`), from the leaves of `nodes`.
+fn sides_of(nodes: &[WideNode], triangles: &[[[f32; 3]; 3]]) -> Vec<SlotSides> {
+    let leaves: Vec<(u32, u32)> = nodes
+        .iter()
+        .flat_map(|n| (0..8).filter(|&c| n.leaves >> c & 1 != 0).map(|c| (n.index[c], n.count[c] as u32)))
+        .collect();
+    leaving::slot_sides(&leaves, triangles)
 }
 
 /// `b` grown to hold `p`.

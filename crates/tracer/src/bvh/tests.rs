@@ -70,8 +70,9 @@ fn stack_overflow_falls_back_to_every_triangle() {
     for _ in 0..1000 {
         let ray = Ray::new(rng.vec() * 6.0, rng.vec().normalize(), 0.0);
         let q = QueryRay::new(&ray);
-        overflows += (bvh.walk::<1, true>(&q, f32::INFINITY, Leaving::NOTHING, &mut |_, _| Step::Miss).0
-            == Walk::Overflow) as u32;
+        let walked =
+            walk::<1, true, _>(&bvh.fixed(), &q, f32::INFINITY, Leaving::NOTHING, &mut |_, _, _| Step::Miss);
+        overflows += (walked.0 == Walk::Overflow) as u32;
         let full = bvh.intersect(&ray, f32::INFINITY);
         assert_eq!(bvh.closest::<1>(&ray, f32::INFINITY, Leaving::NOTHING, |_, _| true), full);
         let t = full.map_or(f32::INFINITY, |h| h.t * 0.999);
@@ -159,7 +160,7 @@ fn leaving_skips_nothing_a_spawned_ray_can_hit() {
     for _ in 0..9000 {
         let ray = Ray::new(rng.vec() * 4.0, rng.vec().normalize(), 0.0);
         let Some(hit) = bvh.intersect(&ray, f32::INFINITY) else { continue };
-        let tri = bvh.triangle(hit.slot);
+        let tri = &bvh.triangle_at(hit.slot, 0.0);
         let (p, p_error) = crate::triangle::hit_point(tri, hit.barycentrics);
         let [a, b, c] = tri.map(Vec3::from_array);
         let n = (b - a).cross(c - a).normalize();
@@ -233,4 +234,144 @@ fn near_hits_in_tiny_scenes() {
     let hit = bvh.intersect(&Ray::new(Vec3::ZERO, -Vec3::Z, 0.0), f32::INFINITY).unwrap();
     assert!((hit.t - s).abs() < 1e-11);
     assert!(Bvh::build(&Mesh::default()).intersect(&Ray::new(Vec3::ZERO, Vec3::Z, 0.0), 1.0).is_none());
+}
+
+/// Triangles at `time` with every corner moved by `motion(corner, step)`, interpolated as
+/// the motion tree does (linearly between the two steps around the time).
+fn moved_at(tris: &[[Vec3; 3]], steps: &[Vec<Vec3>], open: f32, close: f32, time: f32) -> Vec<[Vec3; 3]> {
+    let x = ((time - open) / (close - open) * (steps.len() - 1) as f32).clamp(0.0, (steps.len() - 1) as f32);
+    let k = (x as usize).min(steps.len() - 2);
+    let f = x - k as f32;
+    (0..tris.len())
+        .map(|t| {
+            std::array::from_fn(|c| {
+                let (p, q) = (steps[k][3 * t + c], steps[k + 1][3 * t + c]);
+                let v = p * (1.0 - f) + q * f;
+                v.clamp(p.min(q), p.max(q))
+            })
+        })
+        .collect()
+}
+
+/// The BVH with moving triangles answers every ray at its time exactly as testing every
+/// triangle interpolated to that time: closest hits (triangle and t) and occlusion, for a mix
+/// of static triangles and triangles that translate, rotate and deform over three and five
+/// steps, through the walk and through the overflow fallback; rays leaving a moving triangle
+/// never hit it again.
+#[test]
+fn moving_triangles_match_brute_force_at_every_time() {
+    for steps_n in [2usize, 3, 5] {
+        let mut rng = Lcg(21 + steps_n as u64);
+        let tris: Vec<[Vec3; 3]> = (0..400)
+            .map(|_| {
+                let c = rng.vec() * 5.0;
+                [c + rng.vec() * 0.4, c + rng.vec() * 0.4, c + rng.vec() * 0.4]
+            })
+            .collect();
+        let mesh = mesh_of(&tris);
+        let (open, close) = (7.0f32, 7.5f32);
+        // Every third triangle stays; the others slide, spin about the scene's centre or wobble.
+        let steps: Vec<Vec<Vec3>> = (0..steps_n)
+            .map(|k| {
+                let s = k as f32 / (steps_n - 1) as f32;
+                mesh.positions
+                    .iter()
+                    .enumerate()
+                    .map(|(v, &p)| match (v / 3) % 3 {
+                        0 => p,
+                        1 => p + Vec3::new(1.5, -0.5, 0.25) * s,
+                        _ => glam::Quat::from_rotation_y(0.8 * s) * p + Vec3::splat(0.1 * (v % 3) as f32 * s),
+                    })
+                    .collect()
+            })
+            .collect();
+        let motion = SceneMotion { open, close, positions: steps.clone(), normals: vec![] };
+        let moving = motion.moving_triangles(&mesh);
+        assert_eq!(moving.iter().filter(|&&m| m).count(), tris.len() - tris.len().div_ceil(3));
+        let bvh = Bvh::build_moving(&mesh, &motion, &moving);
+        assert!(bvh.has_motion() && bvh.len() == tris.len());
+        let mut hits = 0;
+        for i in 0..3000 {
+            let time =
+                if i % 10 == 0 { [open, close, 6.0, 8.0, 7.25][i / 10 % 5] } else { open + rng.next() * 0.5 };
+            let at = moved_at(&tris, &steps, open, close, time);
+            // Aimed at a random triangle where it is at that time, or anywhere.
+            let o = rng.vec() * 6.0;
+            let target = at[(rng.next() * at.len() as f32) as usize % at.len()][0];
+            let d = if i % 2 == 0 { (target - o).normalize() } else { rng.vec().normalize() };
+            let ray = Ray::new(o, d, time);
+            let brute = brute_closest(&at, o, d);
+            let hit = bvh.intersect(&ray, f32::INFINITY);
+            assert_eq!(hit.map(|h| (h.triangle as usize, h.t)), brute, "steps {steps_n}, time {time}");
+            assert_eq!(bvh.closest::<1>(&ray, f32::INFINITY, Leaving::NOTHING, |_, _| true), hit);
+            assert_eq!(bvh.occluded(&ray, f32::INFINITY), brute.is_some());
+            assert_eq!(bvh.any::<1>(&ray, f32::INFINITY, Leaving::NOTHING, |_, _| true), brute.is_some());
+            let Some(h) = hit else { continue };
+            hits += 1;
+            assert!(!bvh.occluded(&ray, h.t * 0.999));
+            assert_eq!(bvh.is_moving(h.slot), moving[h.triangle as usize]);
+            let corners = bvh.triangle_at(h.slot, time);
+            assert_eq!(corners, at[h.triangle as usize].map(|p| p.to_array()));
+            // A ray spawned from the hit, at the same time, does not meet its own triangle.
+            let (p, p_error) = crate::triangle::hit_point(&corners, h.barycentrics);
+            let [a, b, c] = corners.map(Vec3::from_array);
+            let n = (b - a).cross(c - a).normalize();
+            let w = rng.vec().normalize();
+            let next = Ray::new(crate::interaction::offset_ray_origin(p, p_error, n, w), w, time);
+            let again = bvh.intersect(&next, f32::INFINITY);
+            assert_ne!(again.map(|g| g.slot), Some(h.slot), "a spawned ray hit its own triangle");
+            let leaving = bvh.leaving(h.slot, w);
+            assert_eq!(
+                bvh.intersect_from(&next, f32::INFINITY, leaving, |_, _| true).map(|g| g.slot),
+                again.map(|g| g.slot)
+            );
+        }
+        assert!(hits > 800, "steps {steps_n}: only {hits} rays hit");
+    }
+}
+
+/// A mesh whose motion moves nothing builds the static tree alone, slot for slot as
+/// [`Bvh::build`] does.
+#[test]
+fn motion_that_moves_nothing_is_the_static_tree() {
+    let mut rng = Lcg(5);
+    let tris: Vec<[Vec3; 3]> = (0..200).map(|_| [rng.vec(), rng.vec(), rng.vec()]).collect();
+    let mesh = mesh_of(&tris);
+    let motion =
+        SceneMotion { open: 0.0, close: 1.0, positions: vec![mesh.positions.clone(); 3], normals: vec![] };
+    let moving = motion.moving_triangles(&mesh);
+    assert!(!moving.contains(&true));
+    let (a, b) = (Bvh::build(&mesh), Bvh::build_moving(&mesh, &motion, &moving));
+    assert!(!b.has_motion());
+    assert_eq!((a.triangles, a.triangle_ids, a.slot_of), (b.triangles, b.triangle_ids, b.slot_of));
+}
+
+/// A refitted tree (the same triangles, every vertex moved) answers like a tree built afresh
+/// and like testing every triangle; a mesh of other triangles is refused, nothing changed.
+#[test]
+fn refitted_tree_matches_brute_force() {
+    let mut rng = Lcg(31);
+    let tris: Vec<[Vec3; 3]> = (0..500)
+        .map(|_| {
+            let c = rng.vec() * 5.0;
+            [c + rng.vec() * 0.4, c + rng.vec() * 0.4, c + rng.vec() * 0.4]
+        })
+        .collect();
+    let mut bvh = Bvh::build(&mesh_of(&tris));
+    // Bent and stretched: every vertex moves, some far.
+    let moved: Vec<[Vec3; 3]> = tris
+        .iter()
+        .map(|t| t.map(|p| glam::Quat::from_rotation_z(0.3 * p.y) * p + Vec3::new(0.0, p.x * p.x * 0.2, 0.5)))
+        .collect();
+    assert!(bvh.refit(&mesh_of(&moved)));
+    let fresh = Bvh::build(&mesh_of(&moved));
+    for _ in 0..3000 {
+        let (o, d) = (rng.vec() * 6.0, rng.vec().normalize());
+        let ray = Ray::new(o, d, 0.0);
+        let brute = brute_closest(&moved, o, d);
+        assert_eq!(bvh.intersect(&ray, f32::INFINITY).map(|h| (h.triangle as usize, h.t)), brute);
+        assert_eq!(fresh.intersect(&ray, f32::INFINITY).map(|h| (h.triangle as usize, h.t)), brute);
+        assert_eq!(bvh.occluded(&ray, f32::INFINITY), brute.is_some());
+    }
+    assert!(!bvh.refit(&mesh_of(&moved[1..])), "another triangle count");
 }

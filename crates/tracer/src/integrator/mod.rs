@@ -163,7 +163,7 @@ impl PathTracer {
             )));
         }
         let mesh = &scene.mesh;
-        let attributes = Attributes::gather(mesh);
+        let mut attributes = Attributes::gather(mesh);
         let alpha_tested =
             scene.materials.iter().any(Material::has_alpha).then(|| {
                 mesh.material_ids.iter().map(|&m| scene.materials[m as usize].has_alpha()).collect()
@@ -185,8 +185,24 @@ impl PathTracer {
                 Frame::from_z((v1 - v0).cross(v2 - v0).normalize_or(Vec3::Z))
             })
             .collect();
+        // Triangles that move within the shutter go in the BVH's motion tree, but for emitters:
+        // light sampling places them where the mesh has them (`Scene::in_motion` warns).
+        let moving = scene.motion.as_deref().and_then(|motion| {
+            let mut moving = motion.moving_triangles(mesh);
+            for (m, &id) in moving.iter_mut().zip(&mesh.material_ids) {
+                *m &= !scene.materials[id as usize].is_emissive();
+            }
+            moving.contains(&true).then_some((motion, moving))
+        });
+        let bvh = match &moving {
+            Some((motion, moving)) => {
+                attributes.gather_motion(mesh, &motion.normals);
+                Bvh::build_moving(mesh, motion, moving)
+            }
+            None => Bvh::build(mesh),
+        };
         Ok(Self {
-            bvh: Bvh::build(mesh),
+            bvh,
             geometric_frames,
             lights,
             lights_cover_emission,

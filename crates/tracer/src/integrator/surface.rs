@@ -21,6 +21,9 @@ pub(super) struct Attributes {
     tangents: Option<Vec<[Vec4; 3]>>,
     /// Vertex colours (glTF `COLOR_0`), multiplying base colour and alpha.
     pub(super) colors: Option<Vec<[Vec4; 3]>>,
+    /// Vertex normals at each motion step (`[step][triangle]`), when something moves and the
+    /// mesh has normals: a moving triangle's are interpolated to the ray's time.
+    pub(super) motion_normals: Option<Vec<Vec<[Vec3; 3]>>>,
 }
 
 impl Attributes {
@@ -35,6 +38,20 @@ impl Attributes {
             uvs1: gather(&mesh.triangles, &mesh.uvs1),
             tangents: gather(&mesh.triangles, &mesh.tangents),
             colors: gather(&mesh.triangles, &mesh.colors),
+            motion_normals: None,
+        }
+    }
+
+    /// Adds the vertex normals of every motion step (the mesh's own triangles, `normals` one
+    /// list per step).
+    pub(super) fn gather_motion(&mut self, mesh: &Mesh, normals: &[Vec<Vec3>]) {
+        if self.normals.is_some() && !normals.is_empty() {
+            self.motion_normals = Some(
+                normals
+                    .iter()
+                    .map(|n| mesh.triangles.iter().map(|t| t.map(|i| n[i as usize])).collect())
+                    .collect(),
+            );
         }
     }
 }
@@ -62,7 +79,10 @@ impl PathTracer {
     /// triangle's own frame without looking for vertex normals.
     #[inline(always)]
     pub(super) fn surface<const FLAT: bool>(&self, hit: &Hit) -> SurfaceInteraction {
-        let tri = self.bvh.triangle(hit.slot);
+        if self.bvh.is_moving(hit.slot) {
+            return self.moving_surface::<FLAT>(hit);
+        }
+        let tri = &self.bvh.triangle_at(hit.slot, hit.time);
         let (p, p_error) = crate::triangle::hit_point(tri, hit.barycentrics);
         let t = hit.triangle as usize;
         let geometric = self.geometric_frames[t];
@@ -82,6 +102,36 @@ impl PathTracer {
                 }
             }
             None => geometric,
+        };
+        SurfaceInteraction {
+            p,
+            p_error,
+            n_geom,
+            shading,
+            triangle: hit.triangle,
+            material: self.material_ids[t],
+        }
+    }
+
+    /// [`PathTracer::surface`] of a triangle that moves within the shutter: its corners, frame
+    /// and vertex normals at the ray's time.
+    #[cold]
+    fn moving_surface<const FLAT: bool>(&self, hit: &Hit) -> SurfaceInteraction {
+        let tri = self.bvh.triangle_at(hit.slot, hit.time);
+        let (p, p_error) = crate::triangle::hit_point(&tri, hit.barycentrics);
+        let t = hit.triangle as usize;
+        let [v0, v1, v2] = tri.map(Vec3::from_array);
+        let geometric = Frame::from_z((v1 - v0).cross(v2 - v0).normalize_or(Vec3::Z));
+        let n_geom = geometric.z;
+        let shading = match (&self.attributes.normals, &self.attributes.motion_normals) {
+            _ if FLAT => geometric,
+            (Some(normals), Some(steps)) if !normals[t].contains(&Vec3::ZERO) => {
+                let (k, f) = self.bvh.motion_step(hit.time);
+                let (a, b) = (steps[k][t], steps[k + 1][t]);
+                let at: [Vec3; 3] = std::array::from_fn(|i| a[i] * (1.0 - f) + b[i] * f);
+                Frame::from_z(lerp3(at, hit.barycentrics).normalize_or(n_geom))
+            }
+            _ => geometric,
         };
         SurfaceInteraction {
             p,

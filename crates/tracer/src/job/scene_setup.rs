@@ -178,6 +178,51 @@ impl SceneSetup {
         self.apply_lights(&mut posed);
         Ok(posed)
     }
+
+    /// [`SceneSetup::at_frame`] with the geometry in motion over the shutter, open from
+    /// `shutter.0` to `shutter.1` frames after the frame's start, at `steps` motion steps
+    /// ([`Scene::in_motion`]; rays see the steps at times frame + open … frame + close, as the
+    /// render loop draws them). A closed shutter, or a static scene, is [`SceneSetup::at_frame`].
+    pub fn at_frame_in_shutter(
+        &self,
+        scene: Scene,
+        frame: u32,
+        shutter: (f32, f32),
+        steps: usize,
+    ) -> Result<Scene> {
+        let posed = self.at_frame(scene, frame)?;
+        self.in_shutter(posed, frame, shutter, steps)
+    }
+
+    /// [`SceneSetup::pose`] with the geometry in motion over the shutter (see
+    /// [`SceneSetup::at_frame_in_shutter`]).
+    pub fn pose_in_shutter(
+        &self,
+        scene: &Scene,
+        frame: u32,
+        shutter: (f32, f32),
+        steps: usize,
+    ) -> Result<Scene> {
+        let posed = self.pose(scene, frame)?;
+        self.in_shutter(posed, frame, shutter, steps)
+    }
+
+    /// `posed` (at `frame`) with its motion over the shutter.
+    fn in_shutter(&self, posed: Scene, frame: u32, shutter: (f32, f32), steps: usize) -> Result<Scene> {
+        let (open, close) = shutter;
+        if !(open.is_finite() && close.is_finite() && open <= close) {
+            return Err(TracerError::Settings(format!(
+                "shutter {open}..{close}: must be finite with open ≤ close"
+            )));
+        }
+        if posed.animation.is_none() || open == close {
+            return Ok(posed);
+        }
+        // Scene seconds in f64, so that frame + offset over fps rounds once.
+        let seconds = |offset: f32| ((frame as f64 + offset as f64) / self.fps as f64) as f32;
+        let frames = (frame as f32 + open, frame as f32 + close);
+        posed.in_motion((seconds(open), seconds(close)), frames, steps)
+    }
 }
 
 #[cfg(test)]

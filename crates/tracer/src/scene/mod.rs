@@ -10,10 +10,12 @@ mod environment;
 mod gltf;
 mod images;
 mod mesh;
+mod motion;
 mod obj;
 mod rig;
 
 pub use mesh::{Mesh, MeshExtras, MeshPart};
+pub use motion::{DEFAULT_MOTION_STEPS, MAX_MOTION_STEPS, SceneMotion};
 pub use rig::SceneAnimation;
 
 use crate::camera::CameraDesc;
@@ -154,6 +156,9 @@ pub struct Scene {
     /// The node hierarchy and keyframes of an animated scene, from which [`Scene::at_time`]
     /// flattens it at any time; `None` for a static scene (and every OBJ scene).
     pub animation: Option<Arc<SceneAnimation>>,
+    /// The vertices at the motion steps of a shutter ([`Scene::in_motion`]), when something
+    /// moves within it; `None` renders the mesh as it is, at every ray time.
+    pub motion: Option<Arc<SceneMotion>>,
 }
 
 impl Scene {
@@ -243,6 +248,7 @@ impl Scene {
             textures: self.textures.clone(),
             environment_map: self.environment_map.clone(),
             animation: Some(Arc::clone(animation)),
+            motion: None,
         };
         scene.validate_geometry().map_err(|e| match e {
             TracerError::Scene { path, message } => {
@@ -299,6 +305,9 @@ impl Scene {
     /// included) and the lights.
     fn validate_geometry(&self) -> Result<()> {
         self.mesh.validate(self.materials.len()).map_err(|m| TracerError::scene(&self.path, m))?;
+        if let Some(motion) = &self.motion {
+            motion.validate(&self.mesh).map_err(|m| TracerError::scene(&self.path, m))?;
+        }
         for (i, light) in self.lights.iter().enumerate() {
             let ok = match *light {
                 PunctualLight::Point { position, intensity } => {
