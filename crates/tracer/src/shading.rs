@@ -38,6 +38,13 @@ pub struct ShadingPoint {
     pub specular_color: Vec3,
     /// Transmission (factor × texture R).
     pub transmission: f32,
+    /// Coat weight (`KHR_materials_clearcoat` factor × texture R).
+    pub coat: f32,
+    /// Coat perceptual roughness (factor × texture G).
+    pub coat_roughness: f32,
+    /// The coat's normal: its own normal map's, else the surface's without the base's map
+    /// (Blender's Coat Normal defaults to the unmapped normal).
+    pub coat_normal: Vec3,
 }
 
 impl ShadingPoint {
@@ -54,6 +61,9 @@ impl ShadingPoint {
             specular: material.specular,
             specular_color: material.specular_color,
             transmission: material.transmission,
+            coat: material.coat,
+            coat_roughness: material.coat_roughness,
+            coat_normal: normal,
         }
     }
 }
@@ -99,6 +109,18 @@ pub fn evaluate(
     if let Some(r) = &t.transmission {
         transmission *= r.eval(textures, uv).x;
     }
+    let (mut coat, mut coat_roughness, mut coat_normal) = (material.coat, material.coat_roughness, n);
+    if coat > 0.0 {
+        if let Some(r) = &t.coat {
+            coat *= r.eval(textures, uv).x;
+        }
+        if let Some(r) = &t.coat_roughness {
+            coat_roughness *= r.eval(textures, uv).y;
+        }
+        if let Some((r, scale)) = &t.coat_normal {
+            coat_normal = perturb(n, r.eval(textures, uv).truncate(), *scale, frame);
+        }
+    }
     ShadingPoint {
         base_color: base.truncate(),
         alpha: base.w.clamp(0.0, 1.0),
@@ -109,6 +131,9 @@ pub fn evaluate(
         specular: specular.clamp(0.0, 1.0),
         specular_color: specular_color.max(Vec3::ZERO),
         transmission: transmission.clamp(0.0, 1.0),
+        coat: coat.clamp(0.0, 1.0),
+        coat_roughness: coat_roughness.clamp(0.0, 1.0),
+        coat_normal,
     }
 }
 

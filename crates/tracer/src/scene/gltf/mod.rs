@@ -64,6 +64,7 @@ const HANDLED_EXTENSIONS: &[&str] = &[
     "KHR_xmp",
     "KHR_xmp_json_ld",
     "KHR_materials_unlit",
+    "KHR_materials_clearcoat",
 ];
 
 /// Loads a `.gltf` or `.glb` file (told apart by the GLB magic, not the name).
