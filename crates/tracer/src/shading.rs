@@ -248,4 +248,36 @@ mod tests {
         // scale 0 flattens the map.
         assert!((perturb(Vec3::Z, Vec3::new(1.0, 0.5, 0.5), 0.0, &frame) - Vec3::Z).length() < 1e-6);
     }
+
+    /// `KHR_materials_clearcoat`'s textures multiply their factors (weight by R, roughness by
+    /// G); without its own normal map the coat keeps the unmapped normal even where the base
+    /// has a map, and with one it tilts by that map alone.
+    #[test]
+    fn coat_textures_multiply_and_the_coat_keeps_its_own_normal() {
+        let textures = vec![texture(Vec4::new(0.5, 0.25, 0.75, 1.0)), texture(Vec4::new(1.0, 0.5, 0.5, 1.0))];
+        let mut material = Material {
+            coat: 0.8,
+            coat_roughness: 0.6,
+            textures: MaterialTextures {
+                coat: Some(TextureRef::new(0)),
+                coat_roughness: Some(TextureRef::new(0)),
+                normal: Some((TextureRef::new(1), 1.0)),
+                ..Default::default()
+            },
+            ..Material::default()
+        };
+        let frame = TangentFrame { tangent: None, dpdu: Vec3::X, dpdv: -Vec3::Y };
+        let s = evaluate(&material, &textures, [Vec2::ZERO; 2], Vec3::Z, &frame);
+        assert_eq!((s.coat, s.coat_roughness), (0.8 * 0.5, 0.6 * 0.25));
+        assert!(
+            (s.normal - Vec3::X).length() < 1e-6 && s.coat_normal == Vec3::Z,
+            "{} {}",
+            s.normal,
+            s.coat_normal
+        );
+        material.textures.coat_normal = Some((TextureRef::new(1), 1.0));
+        let s = evaluate(&material, &textures, [Vec2::ZERO; 2], Vec3::Z, &frame);
+        assert!((s.coat_normal - Vec3::X).length() < 1e-6, "{}", s.coat_normal);
+        assert_eq!(ShadingPoint::of(&material, Vec3::Y).coat_normal, Vec3::Y);
+    }
 }

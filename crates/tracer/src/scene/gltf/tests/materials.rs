@@ -16,7 +16,7 @@ use std::f32::consts::{FRAC_1_SQRT_2, FRAC_PI_2};
 /// The sRGB EOTF of 128/255.
 const SRGB_128: f32 = 0.215_860_5;
 
-fn png(image: DynamicImage) -> Vec<u8> {
+pub(super) fn png(image: DynamicImage) -> Vec<u8> {
     let mut bytes = Vec::new();
     image.write_to(&mut std::io::Cursor::new(&mut bytes), ImageFormat::Png).unwrap();
     bytes
