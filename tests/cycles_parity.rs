@@ -158,4 +158,5 @@ parity!(
     alpha_mask,
     transmission,
     half_metal_glass,
+    coat,
 );

@@ -4,6 +4,7 @@
 
 mod corpus;
 mod lighting;
+mod lobes;
 mod texture_transform;
 mod vertex_colors;
 

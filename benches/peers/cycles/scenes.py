@@ -62,7 +62,7 @@ def checker(folder, name, colours, size=64, square=8):
 
 def material(name, base=(0.8, 0.8, 0.8), metallic=0.0, roughness=0.5, specular=0.5, ior=1.5,
              emission=None, strength=1.0, transmission=0.0, base_texture=None, normal_texture=None,
-             alpha_texture=None, one_sided=False):
+             alpha_texture=None, one_sided=False, coat=0.0, coat_roughness=0.03):
     m = bpy.data.materials.new(name)
     m.use_nodes = True
     nodes, links = m.node_tree.nodes, m.node_tree.links
@@ -73,6 +73,9 @@ def material(name, base=(0.8, 0.8, 0.8), metallic=0.0, roughness=0.5, specular=0
     p.inputs["Specular IOR Level"].default_value = specular
     p.inputs["IOR"].default_value = ior
     p.inputs["Transmission Weight"].default_value = transmission
+    # The exporter writes KHR_materials_clearcoat for a coat weight above 0 (IOR 1.5, tint white).
+    p.inputs["Coat Weight"].default_value = coat
+    p.inputs["Coat Roughness"].default_value = coat_roughness
     if emission is not None:
         p.inputs["Emission Color"].default_value = (*emission, 1.0)
         p.inputs["Emission Strength"].default_value = strength
@@ -273,6 +276,23 @@ def scene_half_metal_glass(folder):
     probe = material("probe", base=(1.0, 1.0, 1.0), metallic=0.5, roughness=0.0, transmission=1.0)
     add(sphere("probe", 0.7, (0.0, 0.0, 0.7)), probe)
     panel = plane("panel", (3.0, 2.0, 1.0), (0.0, -1.0, 3.0), (math.pi, 0.0, 0.0))
+    add(panel, material("panel", base=(0.0, 0.0, 0.0), specular=0.0, emission=(1.0, 1.0, 1.0), strength=3.0,
+                        one_sided=True))
+
+
+def scene_coat(folder):
+    """KHR_materials_clearcoat: a red diffuse sphere under a full, fairly smooth coat, and a copper
+    sphere under a half-weight rougher one, lit by a point light and a panel whose reflection the
+    coats show."""
+    room(grey(), grey(0.6))
+    red = material("coated_red", base=(0.8, 0.1, 0.08), roughness=0.6, coat=1.0, coat_roughness=0.15)
+    add(sphere("red", 0.6, (-0.7, 0.0, 0.6)), red)
+    copper = material("coated_copper", base=(0.9, 0.45, 0.3), metallic=1.0, roughness=0.5, coat=0.5,
+                      coat_roughness=0.3)
+    add(sphere("copper", 0.6, (0.7, 0.2, 0.6)), copper)
+    # The light stays clear of the panel's plane: at its edge, shadow rays would graze the panel.
+    point("light", (1.6, -2.0, 2.5), 200.0)
+    panel = plane("panel", (2.0, 2.0, 1.0), (-0.6, -1.0, 3.0), (math.pi, 0.0, 0.0))
     add(panel, material("panel", base=(0.0, 0.0, 0.0), specular=0.0, emission=(1.0, 1.0, 1.0), strength=3.0,
                         one_sided=True))
 

@@ -1,6 +1,7 @@
 //! Materials as scenes describe them: the glTF 2.0 metallic-roughness model (glTF spec,
 //! Appendix B) with its textures, alpha modes, `KHR_materials_specular`,
-//! `KHR_materials_emissive_strength`, `KHR_materials_transmission` and `KHR_materials_ior`.
+//! `KHR_materials_emissive_strength`, `KHR_materials_transmission`, `KHR_materials_ior` and
+//! `KHR_materials_clearcoat`.
 //! OBJ/MTL materials map onto the same parameters (see `scene::obj`). The BSDF built from these
 //! parameters at a hit lives in `crate::bsdf`.
 
@@ -39,6 +40,13 @@ pub struct MaterialTextures {
     pub specular_color: Option<TextureRef>,
     /// `KHR_materials_transmission` `transmissionTexture`: linear, the factor in R.
     pub transmission: Option<TextureRef>,
+    /// `KHR_materials_clearcoat` `clearcoatTexture`: linear, the factor in R.
+    pub coat: Option<TextureRef>,
+    /// `KHR_materials_clearcoat` `clearcoatRoughnessTexture`: linear, the roughness in G.
+    pub coat_roughness: Option<TextureRef>,
+    /// `KHR_materials_clearcoat` `clearcoatNormalTexture` (linear) and its `scale`: the coat's
+    /// own normal map (without one the coat follows the unmapped surface, as in Blender).
+    pub coat_normal: Option<(TextureRef, f32)>,
 }
 
 impl MaterialTextures {
@@ -51,10 +59,13 @@ impl MaterialTextures {
             && self.specular.is_none()
             && self.specular_color.is_none()
             && self.transmission.is_none()
+            && self.coat.is_none()
+            && self.coat_roughness.is_none()
+            && self.coat_normal.is_none()
     }
 
-    /// Every slot's reference (the normal map's without its scale).
-    pub fn all(&self) -> [Option<TextureRef>; 7] {
+    /// Every slot's reference (the normal maps' without their scale).
+    pub fn all(&self) -> [Option<TextureRef>; 10] {
         [
             self.base_color,
             self.metallic_roughness,
@@ -63,6 +74,9 @@ impl MaterialTextures {
             self.specular,
             self.specular_color,
             self.transmission,
+            self.coat,
+            self.coat_roughness,
+            self.coat_normal.map(|n| n.0),
         ]
     }
 }
@@ -98,6 +112,11 @@ pub struct Material {
     pub transmission: f32,
     /// `KHR_materials_ior` index of refraction (glTF default 1.5).
     pub ior: f32,
+    /// `KHR_materials_clearcoat` `clearcoatFactor`: the weight of a clear dielectric coat
+    /// (index 1.5, untinted, as Blender's Principled coat imports it) over everything else.
+    pub coat: f32,
+    /// `KHR_materials_clearcoat` `clearcoatRoughnessFactor`: the coat's perceptual roughness.
+    pub coat_roughness: f32,
     /// `KHR_materials_unlit`, as Blender imports it: camera rays see the base colour (× texture
     /// × vertex colour) as emitted radiance and end there; every other ray passes through, so
     /// the surface neither lights nor shadows the scene.
@@ -123,6 +142,8 @@ impl Default for Material {
             alpha_mode: AlphaMode::Opaque,
             transmission: 0.0,
             ior: 1.5,
+            coat: 0.0,
+            coat_roughness: 0.0,
             unlit: false,
             textures: MaterialTextures::default(),
         }
@@ -143,7 +164,7 @@ impl Material {
     /// True when the material has a specular (GGX) lobe at all. (A metallic-roughness texture
     /// can only scale the metallic factor, so the factor decides.)
     pub fn has_specular(&self) -> bool {
-        self.metallic > 0.0 || self.specular > 0.0 || self.transmission > 0.0
+        self.metallic > 0.0 || self.specular > 0.0 || self.transmission > 0.0 || self.coat > 0.0
     }
 
     /// True when some of the surface may be missing for some rays (alpha mask or blend, or an
@@ -159,7 +180,9 @@ impl Material {
             && self.roughness.is_finite()
             && self.specular.is_finite()
             && self.specular_color.is_finite()
-            && self.emission.is_finite();
+            && self.emission.is_finite()
+            && self.coat.is_finite()
+            && self.coat_roughness.is_finite();
         if !finite {
             return Err(format!("material '{}' has a non-finite factor", self.name));
         }
@@ -183,6 +206,8 @@ impl Material {
             ("specular", self.specular),
             ("alpha", self.alpha),
             ("transmission", self.transmission),
+            ("coat", self.coat),
+            ("coat roughness", self.coat_roughness),
         ] {
             if !(0.0..=1.0).contains(&v) {
                 return Err(format!("material '{}': {what} {v} is outside [0, 1]", self.name));

@@ -38,6 +38,13 @@ pub struct ShadingPoint {
     pub specular_color: Vec3,
     /// Transmission (factor × texture R).
     pub transmission: f32,
+    /// Coat weight (`KHR_materials_clearcoat` factor × texture R).
+    pub coat: f32,
+    /// Coat perceptual roughness (factor × texture G).
+    pub coat_roughness: f32,
+    /// The coat's normal: its own normal map's, else the surface's without the base's map
+    /// (Blender's Coat Normal defaults to the unmapped normal).
+    pub coat_normal: Vec3,
 }
 
 impl ShadingPoint {
@@ -54,6 +61,9 @@ impl ShadingPoint {
             specular: material.specular,
             specular_color: material.specular_color,
             transmission: material.transmission,
+            coat: material.coat,
+            coat_roughness: material.coat_roughness,
+            coat_normal: normal,
         }
     }
 }
@@ -99,6 +109,18 @@ pub fn evaluate(
     if let Some(r) = &t.transmission {
         transmission *= r.eval(textures, uv).x;
     }
+    let (mut coat, mut coat_roughness, mut coat_normal) = (material.coat, material.coat_roughness, n);
+    if coat > 0.0 {
+        if let Some(r) = &t.coat {
+            coat *= r.eval(textures, uv).x;
+        }
+        if let Some(r) = &t.coat_roughness {
+            coat_roughness *= r.eval(textures, uv).y;
+        }
+        if let Some((r, scale)) = &t.coat_normal {
+            coat_normal = perturb(n, r.eval(textures, uv).truncate(), *scale, frame);
+        }
+    }
     ShadingPoint {
         base_color: base.truncate(),
         alpha: base.w.clamp(0.0, 1.0),
@@ -109,6 +131,9 @@ pub fn evaluate(
         specular: specular.clamp(0.0, 1.0),
         specular_color: specular_color.max(Vec3::ZERO),
         transmission: transmission.clamp(0.0, 1.0),
+        coat: coat.clamp(0.0, 1.0),
+        coat_roughness: coat_roughness.clamp(0.0, 1.0),
+        coat_normal,
     }
 }
 
@@ -222,5 +247,37 @@ mod tests {
         assert!((v + Vec3::Y).length() < 1e-6, "{v}");
         // scale 0 flattens the map.
         assert!((perturb(Vec3::Z, Vec3::new(1.0, 0.5, 0.5), 0.0, &frame) - Vec3::Z).length() < 1e-6);
+    }
+
+    /// `KHR_materials_clearcoat`'s textures multiply their factors (weight by R, roughness by
+    /// G); without its own normal map the coat keeps the unmapped normal even where the base
+    /// has a map, and with one it tilts by that map alone.
+    #[test]
+    fn coat_textures_multiply_and_the_coat_keeps_its_own_normal() {
+        let textures = vec![texture(Vec4::new(0.5, 0.25, 0.75, 1.0)), texture(Vec4::new(1.0, 0.5, 0.5, 1.0))];
+        let mut material = Material {
+            coat: 0.8,
+            coat_roughness: 0.6,
+            textures: MaterialTextures {
+                coat: Some(TextureRef::new(0)),
+                coat_roughness: Some(TextureRef::new(0)),
+                normal: Some((TextureRef::new(1), 1.0)),
+                ..Default::default()
+            },
+            ..Material::default()
+        };
+        let frame = TangentFrame { tangent: None, dpdu: Vec3::X, dpdv: -Vec3::Y };
+        let s = evaluate(&material, &textures, [Vec2::ZERO; 2], Vec3::Z, &frame);
+        assert_eq!((s.coat, s.coat_roughness), (0.8 * 0.5, 0.6 * 0.25));
+        assert!(
+            (s.normal - Vec3::X).length() < 1e-6 && s.coat_normal == Vec3::Z,
+            "{} {}",
+            s.normal,
+            s.coat_normal
+        );
+        material.textures.coat_normal = Some((TextureRef::new(1), 1.0));
+        let s = evaluate(&material, &textures, [Vec2::ZERO; 2], Vec3::Z, &frame);
+        assert!((s.coat_normal - Vec3::X).length() < 1e-6, "{}", s.coat_normal);
+        assert_eq!(ShadingPoint::of(&material, Vec3::Y).coat_normal, Vec3::Y);
     }
 }

@@ -7,7 +7,7 @@ use clap::{Args, ValueEnum};
 use glam::UVec2;
 use std::path::PathBuf;
 use tracer::job::{EnvironmentImage, Quality, SceneSetup};
-use tracer::scene::SpotFalloff;
+use tracer::scene::{GltfReading, SpotFalloff};
 
 /// Sampling and quality settings shared by every command that renders.
 #[derive(Args, Debug, Clone)]
@@ -58,7 +58,12 @@ pub struct QualityArgs {
     /// units (a sun of 2–3 W/m² renders near black) or too bright ones; recorded in the EXR header.
     #[arg(long, value_name = "EV", default_value_t = 0.0, allow_negative_numbers = true)]
     pub exposure: f32,
-    /// Spot-light falloff, overriding the loader's choice (Blender's for Blender-made files).
+    /// How to read a glTF file where Blender's importer and the specification differ, overriding
+    /// the loader's choice (Blender's for files Blender wrote, the specification's otherwise):
+    /// docs/cycles.md lists the differences. The spot falloff follows it unless given.
+    #[arg(long, value_enum)]
+    pub gltf_reading: Option<ReadingArg>,
+    /// Spot-light falloff, overriding the reading's (Blender's for Blender-made files).
     #[arg(long, value_enum)]
     pub spot_falloff: Option<FalloffArg>,
     /// Also write albedo, normal, depth, per-sample variance and sample-count layers into the
@@ -79,6 +84,15 @@ pub struct QualityArgs {
     /// No progress bar or summary.
     #[arg(long, short)]
     pub quiet: bool,
+}
+
+/// Readings of a glTF file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ReadingArg {
+    /// As Blender's importer reads it (what Cycles renders).
+    Blender,
+    /// As the glTF specification reads it.
+    Spec,
 }
 
 /// Spot-light falloff shapes.
@@ -153,6 +167,10 @@ impl QualityArgs {
                 path: path.clone(),
                 rotation: self.env_rotation.to_radians(),
                 strength: self.env_strength,
+            }),
+            reading: self.gltf_reading.map(|r| match r {
+                ReadingArg::Blender => GltfReading::Blender,
+                ReadingArg::Spec => GltfReading::Spec,
             }),
             spot_falloff: self.spot_falloff.map(|f| match f {
                 FalloffArg::Blender => SpotFalloff::Blender,

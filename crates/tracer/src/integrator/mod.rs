@@ -176,6 +176,7 @@ impl PathTracer {
                 m.textures.is_empty()
                     && !m.has_alpha()
                     && m.transmission == 0.0
+                    && m.coat == 0.0
                     && BsdfParams::of(m).is_lambert()
             });
         let lights_cover_emission = lights.environment().is_some() || scene.environment.color == Vec3::ZERO;

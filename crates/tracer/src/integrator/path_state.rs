@@ -59,11 +59,13 @@ impl Vertex<'_> {
         };
         // The hit's shading frame, unless a normal map moved the normal (then shadowed as Blender
         // does, docs/design.md §3.10).
-        if self.material.textures.normal.is_some() {
+        let bsdf = if self.material.textures.normal.is_some() {
             Bsdf::with_frame(&params, Frame::from_z(sp.normal), si.n_geom, self.wo).with_bump(si.shading.z)
         } else {
             Bsdf::with_frame(&params, si.shading, si.n_geom, self.wo)
-        }
+        };
+        // The layers over the base, top last (bsdf/mod.rs: the stack's order).
+        if sp.coat > 0.0 { bsdf.with_coat(sp.coat, sp.coat_roughness, sp.coat_normal, self.wo) } else { bsdf }
     }
 }
 

@@ -156,7 +156,7 @@ impl PathTracer {
             ShadingPoint::of(material, si.shading.z)
         } else {
             let uv = self.uvs(si.triangle, b);
-            let frame = if material.textures.normal.is_some() {
+            let frame = if material.textures.normal.is_some() || material.textures.coat_normal.is_some() {
                 self.tangent_frame(si.triangle, b)
             } else {
                 NO_FRAME

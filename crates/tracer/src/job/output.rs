@@ -148,6 +148,9 @@ impl<'a> RenderInfo<'a> {
             if let Some(c) = setup.environment {
                 out.push(("mcctrace/environment", format!("{},{},{}", c.x, c.y, c.z)));
             }
+            if let Some(reading) = setup.reading {
+                out.push(("mcctrace/gltf_reading", format!("{reading:?}")));
+            }
             if let Some(falloff) = setup.spot_falloff {
                 out.push(("mcctrace/spot_falloff", format!("{falloff:?}")));
             }

@@ -4,7 +4,7 @@
 //! that nothing lights gets a warning saying how to light it.
 
 use crate::error::{Result, TracerError};
-use crate::scene::{EnvironmentMap, PunctualLight, Scene, SpotFalloff};
+use crate::scene::{EnvironmentMap, GltfReading, PunctualLight, Scene, SpotFalloff};
 use glam::Vec3;
 use std::path::{Path, PathBuf};
 
@@ -29,7 +29,10 @@ pub struct SceneSetup {
     pub environment: Option<Vec3>,
     /// An environment image replacing the constant environment where rays leave the scene.
     pub environment_image: Option<EnvironmentImage>,
-    /// A spot-light falloff replacing the loader's choice.
+    /// A reading of glTF files replacing the loader's choice by `asset.generator` (docs/cycles.md,
+    /// "Two readings of one file"); the spot falloff follows it unless `spot_falloff` is given.
+    pub reading: Option<GltfReading>,
+    /// A spot-light falloff replacing the reading's.
     pub spot_falloff: Option<SpotFalloff>,
     /// A uniform sky of this radiance, importance-sampled as an environment light, replacing
     /// the scene's environment (for models that carry no light).
@@ -45,6 +48,7 @@ impl Default for SceneSetup {
             fps: Self::DEFAULT_FPS,
             environment: None,
             environment_image: None,
+            reading: None,
             spot_falloff: None,
             sky: None,
             exposure: 0.0,
@@ -130,10 +134,14 @@ impl SceneSetup {
     /// rebuilds).
     fn apply_lights(&self, scene: &mut Scene) {
         let scale = if self.exposure == 0.0 { 1.0 } else { self.exposure.exp2() };
+        if let Some(reading) = self.reading {
+            scene.reading = reading;
+        }
+        let falloff = self.spot_falloff.or(self.reading.map(GltfReading::spot_falloff));
         for light in &mut scene.lights {
             match light {
                 PunctualLight::Spot { falloff: f, intensity, .. } => {
-                    if let Some(falloff) = self.spot_falloff {
+                    if let Some(falloff) = falloff {
                         *f = falloff;
                     }
                     *intensity *= scale;
@@ -255,6 +263,26 @@ mod tests {
         let unchanged = SceneSetup::default();
         unchanged.apply(&mut scene).unwrap();
         assert_eq!(scene.lights[0], spot(SpotFalloff::Gltf));
+    }
+
+    /// A reading chosen by hand replaces the loader's, and the spot falloff follows it unless a
+    /// falloff is given too (`--spot-falloff` keeps working beside `--gltf-reading`).
+    #[test]
+    fn a_reading_sets_the_falloff_unless_one_is_given() {
+        let mut scene = Scene::default();
+        scene.lights.push(spot(SpotFalloff::Blender));
+        let spec = SceneSetup { reading: Some(GltfReading::Spec), ..SceneSetup::default() };
+        spec.apply(&mut scene).unwrap();
+        assert_eq!((scene.reading, &scene.lights[0]), (GltfReading::Spec, &spot(SpotFalloff::Gltf)));
+        let both = SceneSetup {
+            reading: Some(GltfReading::Spec),
+            spot_falloff: Some(SpotFalloff::Blender),
+            ..SceneSetup::default()
+        };
+        both.apply(&mut scene).unwrap();
+        assert_eq!((scene.reading, &scene.lights[0]), (GltfReading::Spec, &spot(SpotFalloff::Blender)));
+        assert_eq!(GltfReading::of_generator("Khronos glTF Blender I/O v5.0.21"), GltfReading::Blender);
+        assert_eq!(GltfReading::of_generator("COLLADA2GLTF"), GltfReading::Spec);
     }
 
     /// A model with nothing that gives light renders black: loading it says so, naming the file

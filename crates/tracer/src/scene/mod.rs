@@ -72,6 +72,34 @@ pub enum SpotFalloff {
     Gltf,
 }
 
+/// Whose reading of a glTF file to follow where Blender's importer and the glTF specification
+/// differ (docs/cycles.md, "Two readings of one file", lists every difference).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum GltfReading {
+    /// Blender's importer, as Cycles renders the file: what a file Blender wrote was made to
+    /// look like.
+    #[default]
+    Blender,
+    /// The glTF specification.
+    Spec,
+}
+
+impl GltfReading {
+    /// The loader's choice for a file whose `asset.generator` is `generator`: Blender's reading
+    /// for files Blender wrote, the specification's for any other.
+    pub fn of_generator(generator: &str) -> Self {
+        if generator.contains("Blender") { Self::Blender } else { Self::Spec }
+    }
+
+    /// The spot-light falloff of this reading.
+    pub fn spot_falloff(self) -> SpotFalloff {
+        match self {
+            Self::Blender => SpotFalloff::Blender,
+            Self::Spec => SpotFalloff::Gltf,
+        }
+    }
+}
+
 /// An equirectangular (latitude–longitude) environment image, importance-sampled as a light.
 #[derive(Clone, Debug, PartialEq)]
 pub struct EnvironmentMap {
@@ -153,6 +181,8 @@ pub struct Scene {
     pub textures: Vec<crate::texture::Texture>,
     /// An environment image replacing `environment.color` where rays leave the scene.
     pub environment_map: Option<EnvironmentMap>,
+    /// The reading of a glTF file the scene was loaded with (Blender's for other formats).
+    pub reading: GltfReading,
     /// The node hierarchy and keyframes of an animated scene, from which [`Scene::at_time`]
     /// flattens it at any time; `None` for a static scene (and every OBJ scene).
     pub animation: Option<Arc<SceneAnimation>>,
@@ -247,6 +277,7 @@ impl Scene {
             warnings: self.warnings.clone(),
             textures: self.textures.clone(),
             environment_map: self.environment_map.clone(),
+            reading: self.reading,
             animation: Some(Arc::clone(animation)),
             motion: None,
         };

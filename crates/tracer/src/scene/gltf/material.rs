@@ -2,7 +2,8 @@
 //! metallic-roughness, emissive, normal with its `scale`), `alphaMode`/`alphaCutoff`,
 //! `KHR_texture_transform` on every texture reference, `KHR_materials_emissive_strength`,
 //! `KHR_materials_specular` and `KHR_materials_transmission` (factors and textures),
-//! `KHR_materials_ior` and `KHR_materials_unlit` (as Blender imports it).
+//! `KHR_materials_ior`, `KHR_materials_unlit` (as Blender imports it) and
+//! `KHR_materials_clearcoat` (read from the raw JSON: the gltf crate does not parse it).
 //!
 //! - Occlusion textures are ignored without a word: a path tracer computes occlusion itself.
 //! - `KHR_materials_specular` and `KHR_materials_transmission` textures multiply their factors.
@@ -13,6 +14,7 @@
 use super::textures::{TextureLoader, UvTransform};
 use crate::material::{AlphaMode, Material, MaterialTextures};
 use crate::scene::images::ColorSpace;
+use crate::texture::TextureRef;
 use glam::Vec3;
 use serde_json::Value;
 
@@ -190,6 +192,8 @@ pub(super) fn convert(
         ));
     }
 
+    let (coat, coat_roughness) = clearcoat(raw, textures, &label, &mut slots)?;
+
     // KHR_materials_unlit: Blender imports it as an emission of the base colour that camera
     // rays alone see (a Light Path "Is Camera Ray" mix with a transparent BSDF); the emissive
     // factors do not take part.
@@ -215,7 +219,96 @@ pub(super) fn convert(
         alpha_mode,
         transmission,
         ior,
+        coat,
+        coat_roughness,
         textures: slots,
         name,
     })
+}
+
+/// A texture reference read from raw JSON (`{"index", "texCoord", "extensions"}`, as the gltf
+/// crate leaves extensions it does not parse): `None`, warned, when it is malformed.
+fn raw_reference(
+    info: Option<&Value>,
+    textures: &mut TextureLoader,
+    space: ColorSpace,
+    user: &str,
+) -> Option<TextureRef> {
+    let info = info?;
+    let texture = info.get("index").and_then(Value::as_u64).and_then(|i| textures.texture(i as usize));
+    let Some(texture) = texture else {
+        textures.warn(format!(
+            "{user}: 'index' {} names no texture; ignored",
+            info.get("index").unwrap_or(&Value::Null)
+        ));
+        return None;
+    };
+    let tex_coord = match info.get("texCoord") {
+        None => 0,
+        Some(v) => match v.as_u64().and_then(|n| u32::try_from(n).ok()) {
+            Some(n) => n,
+            None => {
+                textures.warn(format!("{user}: 'texCoord' {v} is not a non-negative integer; ignored"));
+                return None;
+            }
+        },
+    };
+    let transform = match raw_transform(Some(info)) {
+        Ok(t) => t,
+        Err(e) => {
+            textures.warn(format!("{user}: malformed KHR_texture_transform ({e}); ignored"));
+            None
+        }
+    };
+    textures.reference(&texture, tex_coord, transform, space, user)
+}
+
+/// `KHR_materials_clearcoat` of the material whose raw JSON is `raw`: its (factor, roughness)
+/// (0, 0 without the extension), and its three textures into `slots`. `Err` names a factor that
+/// is not a number in [0, 1].
+fn clearcoat(
+    raw: Option<&Value>,
+    textures: &mut TextureLoader,
+    label: &str,
+    slots: &mut MaterialTextures,
+) -> Result<(f32, f32), String> {
+    let Some(ext) = raw.and_then(|r| r.get("extensions")).and_then(|e| e.get("KHR_materials_clearcoat"))
+    else {
+        return Ok((0.0, 0.0));
+    };
+    let factor = |key: &str| -> Result<f32, String> {
+        match ext.get(key) {
+            None => Ok(0.0),
+            Some(v) => match v.as_f64() {
+                Some(x) if (0.0..=1.0).contains(&x) => Ok(x as f32),
+                _ => Err(format!("{label}: KHR_materials_clearcoat {key} {v} is not a number in [0, 1]")),
+            },
+        }
+    };
+    let (coat, roughness) = (factor("clearcoatFactor")?, factor("clearcoatRoughnessFactor")?);
+    let user = |what: &str| format!("{label}, KHR_materials_clearcoat {what}");
+    slots.coat =
+        raw_reference(ext.get("clearcoatTexture"), textures, ColorSpace::Linear, &user("clearcoatTexture"));
+    slots.coat_roughness = raw_reference(
+        ext.get("clearcoatRoughnessTexture"),
+        textures,
+        ColorSpace::Linear,
+        &user("clearcoatRoughnessTexture"),
+    );
+    let normal = ext.get("clearcoatNormalTexture");
+    if let Some(r) = raw_reference(normal, textures, ColorSpace::Linear, &user("clearcoatNormalTexture")) {
+        let scale = normal.and_then(|n| n.get("scale")).map_or(Some(1.0), Value::as_f64);
+        let scale = match scale {
+            Some(s) if s.is_finite() => s as f32,
+            _ => {
+                textures.warn(format!(
+                    "{}: scale is not a finite number; 1 is used",
+                    user("clearcoatNormalTexture")
+                ));
+                1.0
+            }
+        };
+        slots.coat_normal = Some((r, scale));
+    }
+    Ok((coat, roughness))
 }

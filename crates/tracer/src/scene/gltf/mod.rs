@@ -20,9 +20,11 @@
 //! `__gather_intensity`), so these reproduce the Blender scene. `range` is ignored: lights fall
 //! off by the inverse square law, as physically based renderers do.
 //!
-//! Spot cones: a file written by Blender (its `asset.generator` names Blender) is lit with Cycles'
-//! smoothstep falloff, which it was authored with; any other file with the glTF specification's
-//! recommended falloff ([`SpotFalloff`](super::SpotFalloff)).
+//! Two readings ([`GltfReading`](super::GltfReading)): a file written by Blender (its
+//! `asset.generator` names Blender) is read as Blender's importer reads it, any other as the
+//! specification does (`Scene::reading` carries the choice; `SceneSetup::reading` overrides it).
+//! Spot cones follow it: Cycles' smoothstep falloff, which a Blender file was authored with, or
+//! the specification's recommended falloff ([`SpotFalloff`](super::SpotFalloff)).
 
 mod accessor;
 mod buffers;
@@ -38,7 +40,7 @@ mod textures;
 use super::rig::{
     Influences, LightKind, MorphTarget, Pose, Primitive, Rig, RigCamera, RigLight, RigNode, Skin,
 };
-use super::{Scene, SceneAnimation, SpotFalloff};
+use super::{GltfReading, Scene, SceneAnimation, SpotFalloff};
 use crate::camera::Projection;
 use crate::error::{Result, TracerError};
 use glam::{Affine3A, Mat4, Quat, Vec3};
@@ -64,6 +66,7 @@ const HANDLED_EXTENSIONS: &[&str] = &[
     "KHR_xmp",
     "KHR_xmp_json_ld",
     "KHR_materials_unlit",
+    "KHR_materials_clearcoat",
 ];
 
 /// Loads a `.gltf` or `.glb` file (told apart by the GLB magic, not the name).
@@ -142,9 +145,11 @@ pub(super) fn load_with(path: &Path, keep_rig: bool) -> Result<Scene> {
     }
     scene.warnings.append(&mut textures.warnings);
     scene.textures = textures.textures;
-    // Blender-exported spot lights keep the falloff Cycles rendered them with (module docs).
+    // Files Blender wrote are read as Blender reads them (module docs): e.g. spot lights keep the
+    // falloff Cycles rendered them with.
     let generator = doc.as_json().asset.generator.as_deref().unwrap_or("");
-    let spot_falloff = if generator.contains("Blender") { SpotFalloff::Blender } else { SpotFalloff::Gltf };
+    scene.reading = GltfReading::of_generator(generator);
+    let spot_falloff = scene.reading.spot_falloff();
     let mut loader = Loader {
         path,
         buffers: &buffers,

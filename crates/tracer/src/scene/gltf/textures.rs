@@ -74,6 +74,11 @@ impl<'a> TextureLoader<'a> {
         }
     }
 
+    /// The document's texture `index`, if there is one.
+    pub(super) fn texture(&self, index: usize) -> Option<gltf::Texture<'a>> {
+        self.doc.textures().nth(index)
+    }
+
     /// Records a warning about the file.
     pub(super) fn warn(&mut self, message: String) {
         self.warnings.push(format!("{}: {message}", self.path.display()));

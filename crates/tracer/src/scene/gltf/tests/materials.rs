@@ -6,7 +6,7 @@
 use super::{Builder, TRIANGLE, base64, expect_error, glb, load_json};
 use crate::material::AlphaMode;
 use crate::scene::gltf::tests::TempDir;
-use crate::scene::{PunctualLight, SpotFalloff};
+use crate::scene::{GltfReading, PunctualLight, SpotFalloff};
 use crate::texture::{Filter, TextureRef, Wrap, uv_transform};
 use glam::{Vec2, Vec3, Vec4};
 use image::{DynamicImage, ImageBuffer, ImageFormat, Luma, Rgb, Rgba};
@@ -16,7 +16,7 @@ use std::f32::consts::{FRAC_1_SQRT_2, FRAC_PI_2};
 /// The sRGB EOTF of 128/255.
 const SRGB_128: f32 = 0.215_860_5;
 
-fn png(image: DynamicImage) -> Vec<u8> {
+pub(super) fn png(image: DynamicImage) -> Vec<u8> {
     let mut bytes = Vec::new();
     image.write_to(&mut std::io::Cursor::new(&mut bytes), ImageFormat::Png).unwrap();
     bytes
@@ -407,6 +407,8 @@ fn scene_gltf_spot_and_directional_lights() {
     }
     let other = load_json(&dir, "other.gltf", &lights_doc("some exporter", lights.clone())).unwrap();
     assert!(matches!(other.lights[0], PunctualLight::Spot { falloff: SpotFalloff::Gltf, .. }));
+    // The reading the falloff follows is the scene's, for the rest of the file's differences.
+    assert_eq!((blender.reading, other.reading), (GltfReading::Blender, GltfReading::Spec));
 
     let bytes = |doc: &Value| serde_json::to_vec(doc).unwrap();
     let mut wide = lights.clone();

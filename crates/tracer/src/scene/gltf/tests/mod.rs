@@ -3,6 +3,7 @@
 //! helpers (`TempDir`, `Builder`) are shared with the OBJ tests.
 
 mod channels;
+mod lobes;
 mod materials;
 
 use super::super::{CameraSelector, PunctualLight, Scene};
