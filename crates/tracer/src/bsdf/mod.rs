@@ -32,6 +32,7 @@ pub mod fresnel;
 pub mod ggx;
 pub mod lambert;
 pub mod raised_normal;
+pub mod rough_dielectric;
 
 use crate::material::Material;
 use crate::sampling::Frame;
