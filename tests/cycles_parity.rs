@@ -158,4 +158,6 @@ parity!(
     alpha_mask,
     transmission,
     half_metal_glass,
+    rough_glass,
+    absorbing_glass,
 );

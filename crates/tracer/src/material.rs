@@ -1,6 +1,7 @@
 //! Materials as scenes describe them: the glTF 2.0 metallic-roughness model (glTF spec,
 //! Appendix B) with its textures, alpha modes, `KHR_materials_specular`,
-//! `KHR_materials_emissive_strength`, `KHR_materials_transmission` and `KHR_materials_ior`.
+//! `KHR_materials_emissive_strength`, `KHR_materials_transmission`, `KHR_materials_ior` and
+//! `KHR_materials_volume`.
 //! OBJ/MTL materials map onto the same parameters (see `scene::obj`). The BSDF built from these
 //! parameters at a hit lives in `crate::bsdf`.
 
@@ -98,6 +99,14 @@ pub struct Material {
     pub transmission: f32,
     /// `KHR_materials_ior` index of refraction (glTF default 1.5).
     pub ior: f32,
+    /// The transmissive surface is a thin wall, not the boundary of a solid: light passes
+    /// through unbent (the glTF spec's reading of transmission without `KHR_materials_volume`,
+    /// or with `thicknessFactor` 0); otherwise it refracts into the enclosed medium.
+    pub thin_walled: bool,
+    /// Absorption coefficient σa (per world unit, linear RGB) of the medium a closed
+    /// transmissive mesh encloses (`KHR_materials_volume`, as Cycles' Volume Absorption): light
+    /// inside keeps exp(−σa·distance). Zero: clear.
+    pub attenuation: Vec3,
     /// `KHR_materials_unlit`, as Blender imports it: camera rays see the base colour (× texture
     /// × vertex colour) as emitted radiance and end there; every other ray passes through, so
     /// the surface neither lights nor shadows the scene.
@@ -123,6 +132,8 @@ impl Default for Material {
             alpha_mode: AlphaMode::Opaque,
             transmission: 0.0,
             ior: 1.5,
+            thin_walled: false,
+            attenuation: Vec3::ZERO,
             unlit: false,
             textures: MaterialTextures::default(),
         }
@@ -146,6 +157,11 @@ impl Material {
         self.metallic > 0.0 || self.specular > 0.0 || self.transmission > 0.0
     }
 
+    /// True when the material's transmission encloses an absorbing medium.
+    pub fn has_volume(&self) -> bool {
+        self.transmission > 0.0 && !self.thin_walled && self.attenuation != Vec3::ZERO
+    }
+
     /// True when some of the surface may be missing for some rays (alpha mask or blend, or an
     /// unlit surface, which only camera rays see).
     pub fn has_alpha(&self) -> bool {
@@ -159,13 +175,15 @@ impl Material {
             && self.roughness.is_finite()
             && self.specular.is_finite()
             && self.specular_color.is_finite()
-            && self.emission.is_finite();
+            && self.emission.is_finite()
+            && self.attenuation.is_finite();
         if !finite {
             return Err(format!("material '{}' has a non-finite factor", self.name));
         }
         if self.base_color.min_element() < 0.0
             || self.emission.min_element() < 0.0
             || self.specular_color.min_element() < 0.0
+            || self.attenuation.min_element() < 0.0
         {
             return Err(format!("material '{}' has a negative colour", self.name));
         }

@@ -21,8 +21,9 @@
 //!
 //! Surfaces are two-sided: the frame faces wo's side of the geometric normal, and only
 //! reflection on that side is non-zero (no light through an opaque surface via shading normals).
-//! Transmission (glass) is a separate delta interface, [`dielectric::Dielectric`], chosen by
-//! the integrator with probability (1 − metallic)·transmission; what is not glass is this BSDF
+//! Transmission (glass) is a separate interface, [`dielectric::Dielectric`] when smooth and
+//! [`rough_dielectric::RoughDielectric`] when rough or a thin wall, chosen by the integrator
+//! with probability (1 − metallic)·transmission; what is not glass is this BSDF
 //! with the metalness [`BsdfParams::opaque_metallic`] gives, so that metal, glass and the
 //! dielectric over diffuse keep the weights of Cycles' Principled BSDF.
 

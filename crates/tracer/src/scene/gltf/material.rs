@@ -4,6 +4,13 @@
 //! `KHR_materials_specular` and `KHR_materials_transmission` (factors and textures),
 //! `KHR_materials_ior` and `KHR_materials_unlit` (as Blender imports it).
 //!
+//! - `KHR_materials_volume`: a transmissive material with `thicknessFactor` > 0 bounds a solid
+//!   whose medium absorbs by Beer–Lambert ([`Material::attenuation`]); the thickness texture is
+//!   a rasteriser's stand-in for the distance a path tracer measures through the mesh, so it is
+//!   read for nothing. Two readings (see [`Reading`]): the specification's, where transmission
+//!   without the extension (or thickness 0) is a thin wall and σa = −ln(colour) / distance, and
+//!   Blender's importer's, where every transmissive surface bounds a refracting solid and the
+//!   colour and 1 / distance become a Volume Absorption node (Cycles: σa = (1 − colour) / distance).
 //! - Occlusion textures are ignored without a word: a path tracer computes occlusion itself.
 //! - `KHR_materials_specular` and `KHR_materials_transmission` textures multiply their factors.
 //! - `KHR_materials_ior` also sets the dielectric F0 of the opaque lobes, as the extension
@@ -15,6 +22,61 @@ use crate::material::{AlphaMode, Material, MaterialTextures};
 use crate::scene::images::ColorSpace;
 use glam::Vec3;
 use serde_json::Value;
+
+/// Whose reading of the file's transmission and volume the material follows: Blender's
+/// importer's for files Blender wrote (`asset.generator`), the specification's otherwise, as the
+/// spot falloff does (module docs of `gltf`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Reading {
+    /// The glTF specification's.
+    Spec,
+    /// Blender's glTF importer rendered by Cycles.
+    Blender,
+}
+
+/// `KHR_materials_volume` read from the material's raw JSON: (thin wall, absorption σa). `Err`
+/// names what is malformed.
+fn volume(raw: Option<&Value>, reading: Reading) -> Result<(bool, Vec3), String> {
+    let Some(v) = raw.and_then(|r| r.get("extensions")).and_then(|e| e.get("KHR_materials_volume")) else {
+        return Ok((reading == Reading::Spec, Vec3::ZERO));
+    };
+    let number = |key: &str, default: f64| -> Result<f64, String> {
+        match v.get(key) {
+            None => Ok(default),
+            Some(x) => x.as_f64().ok_or_else(|| format!("'{key}' must be a number, not {x}")),
+        }
+    };
+    let thickness = number("thicknessFactor", 0.0)?;
+    if !(thickness.is_finite() && thickness >= 0.0) {
+        return Err(format!("'thicknessFactor' {thickness} must be ≥ 0"));
+    }
+    let distance = number("attenuationDistance", f64::INFINITY)?;
+    if !(distance > 0.0) {
+        return Err(format!("'attenuationDistance' {distance} must be > 0"));
+    }
+    let colour = match v.get("attenuationColor") {
+        None => Vec3::ONE,
+        Some(c) => match c.as_array().map(|a| a.iter().map(Value::as_f64).collect::<Vec<_>>()) {
+            Some(a) if a.len() == 3 && a.iter().all(|x| x.is_some_and(|x| (0.0..=1.0).contains(&x))) => {
+                Vec3::new(a[0].unwrap_or(1.0) as f32, a[1].unwrap_or(1.0) as f32, a[2].unwrap_or(1.0) as f32)
+            }
+            _ => return Err(format!("'attenuationColor' must be three numbers in [0, 1], not {c}")),
+        },
+    };
+    let thin = reading == Reading::Spec && thickness == 0.0;
+    let sigma = if distance.is_infinite() {
+        Vec3::ZERO
+    } else {
+        let d = distance as f32;
+        match reading {
+            // Cycles' Volume Absorption: σa = (1 − colour) · density, density = 1 / distance.
+            Reading::Blender => (Vec3::ONE - colour) / d,
+            // The specification: the colour is what remains after the distance.
+            Reading::Spec => -colour.max(Vec3::splat(1e-6)).map(f32::ln) / d,
+        }
+    };
+    Ok((thin, sigma))
+}
 
 /// The material glTF prescribes for primitives without one (spec §3.9.2): white, fully metallic,
 /// fully rough. (`Material::default()` is a grey diffuse for other formats' missing materials.)
@@ -95,6 +157,7 @@ pub(super) fn convert(
     m: &gltf::Material,
     raw: Option<&Value>,
     textures: &mut TextureLoader,
+    reading: Reading,
 ) -> Result<Material, String> {
     let pbr = m.pbr_metallic_roughness();
     let [r, g, b, alpha] = pbr.base_color_factor();
@@ -182,13 +245,13 @@ pub(super) fn convert(
     let f0_scale = if ior == 1.5 { 1.0 } else { ((ior - 1.0) / (ior + 1.0)).powi(2) / 0.04 };
     let transmission = transmission.map_or(0.0, |t| t.transmission_factor());
     let (metallic, roughness) = (pbr.metallic_factor(), pbr.roughness_factor());
-    if transmission > 0.0 && metallic < 1.0 && roughness > 0.0 {
-        // The glass is a smooth interface: a frosted pane would come out clear without a word.
-        textures.warn(format!(
-            "{label}: rough transmission (roughnessFactor {roughness}, transmission {transmission}) is \
-             rendered as smooth glass; only the reflection off the opaque part is rough"
-        ));
-    }
+    let (thin_walled, attenuation) = match volume(raw, reading) {
+        Ok(v) => v,
+        Err(e) => {
+            textures.warn(format!("{label}: malformed KHR_materials_volume ({e}); it is ignored"));
+            (reading == Reading::Spec, Vec3::ZERO)
+        }
+    };
 
     // KHR_materials_unlit: Blender imports it as an emission of the base colour that camera
     // rays alone see (a Light Path "Is Camera Ray" mix with a transparent BSDF); the emissive
@@ -215,6 +278,8 @@ pub(super) fn convert(
         alpha_mode,
         transmission,
         ior,
+        thin_walled,
+        attenuation,
         textures: slots,
         name,
     })

@@ -54,6 +54,7 @@ const HANDLED_EXTENSIONS: &[&str] = &[
     "KHR_materials_specular",
     "KHR_materials_transmission",
     "KHR_materials_ior",
+    "KHR_materials_volume",
     "KHR_texture_transform",
     "KHR_mesh_quantization",
     "EXT_meshopt_compression",
@@ -135,16 +136,18 @@ pub(super) fn load_with(path: &Path, keep_rig: bool) -> Result<Scene> {
     }
     let mut textures = textures::TextureLoader::new(&doc, &buffers, base, path);
     let raw_materials = raw.get("materials").and_then(serde_json::Value::as_array);
+    // Blender-exported files keep the falloff and the glass Cycles rendered them with (module docs).
+    let generator = doc.as_json().asset.generator.as_deref().unwrap_or("");
+    let blender = generator.contains("Blender");
+    let reading = if blender { material::Reading::Blender } else { material::Reading::Spec };
     for m in doc.materials() {
         let raw_material = m.index().and_then(|i| raw_materials.and_then(|a| a.get(i)));
-        let converted = material::convert(&m, raw_material, &mut textures).map_err(err)?;
+        let converted = material::convert(&m, raw_material, &mut textures, reading).map_err(err)?;
         scene.materials.push(converted);
     }
     scene.warnings.append(&mut textures.warnings);
     scene.textures = textures.textures;
-    // Blender-exported spot lights keep the falloff Cycles rendered them with (module docs).
-    let generator = doc.as_json().asset.generator.as_deref().unwrap_or("");
-    let spot_falloff = if generator.contains("Blender") { SpotFalloff::Blender } else { SpotFalloff::Gltf };
+    let spot_falloff = if blender { SpotFalloff::Blender } else { SpotFalloff::Gltf };
     let mut loader = Loader {
         path,
         buffers: &buffers,
