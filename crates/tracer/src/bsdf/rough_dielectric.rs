@@ -101,8 +101,10 @@ impl RoughDielectric {
         };
         // f·cos/pdf = G2/G1 for visible-normal sampling, the Fresnel choice cancelling F or 1 − F.
         let weight = factor * (self.scale * self.ggx.g2(wo, wi) / self.ggx.g1(wo));
+        // The density is for callers that weigh by MIS; at η = 1 Walter's half vector of an
+        // unbent refraction is undefined (pdf 0) while the weight above stays exact.
         let (_, pdf) = self.eval(wo, wi);
-        (pdf > 0.0 && weight.is_finite()).then_some(RoughSample { wi, weight, pdf })
+        weight.is_finite().then_some(RoughSample { wi, weight, pdf })
     }
 
     /// f(wo, wi) (without the cosine) and the density [`RoughDielectric::sample`] gives wi, for

@@ -260,7 +260,10 @@ impl PathState {
         if glass {
             let [u0, u1, l0, l1] = self.sampler.get(sets::vertex(depth));
             let u_fresnel = decisions.get(Decisions::FRESNEL);
-            let (wi, weight) = if v.sp.roughness == 0.0 && !v.material.thin_walled {
+            // Index 1 bends nothing, rough or not: the smooth interface is exact there (and
+            // Walter's half vector of an unbent refraction is undefined).
+            let smooth = v.sp.roughness == 0.0 || v.material.ior == 1.0;
+            let (wi, weight) = if smooth && !v.material.thin_walled {
                 let lobe = Dielectric::new(v.sp.normal, v.si.n_geom, v.wo, v.material.ior, v.sp.base_color);
                 let Some(s) = lobe.sample(u_fresnel) else { return false };
                 (s.wi, s.weight)
