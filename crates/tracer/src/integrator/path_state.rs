@@ -202,7 +202,7 @@ impl PathState {
         let ray = &self.ray;
         out.rays += 1;
         let found = tracer.closest_hit::<ALPHA>(ray, self.leaving, self.depth == 0);
-        if let Some(sigma) = self.medium {
+        if let (false, Some(sigma)) = (LAMBERT, self.medium) {
             // Beer–Lambert along the segment; a ray that escapes from inside a medium (a mesh
             // that is not closed) keeps only the channels the medium does not absorb.
             let t = found.as_ref().map_or(f32::INFINITY, |h| h.t);

@@ -7,10 +7,12 @@
 //! - `KHR_materials_volume`: a transmissive material with `thicknessFactor` > 0 bounds a solid
 //!   whose medium absorbs by Beer–Lambert ([`Material::attenuation`]); the thickness texture is
 //!   a rasteriser's stand-in for the distance a path tracer measures through the mesh, so it is
-//!   read for nothing. Two readings (see [`Reading`]): the specification's, where transmission
-//!   without the extension (or thickness 0) is a thin wall and σa = −ln(colour) / distance, and
-//!   Blender's importer's, where every transmissive surface bounds a refracting solid and the
-//!   colour and 1 / distance become a Volume Absorption node (Cycles: σa = (1 − colour) / distance).
+//!   read for nothing. Two readings (see [`Reading`]): the specification's, where thickness 0
+//!   is a thin wall and σa = −ln(colour) / distance, and Blender's importer's, where every
+//!   transmissive surface bounds a refracting solid and the colour and 1 / distance become a
+//!   Volume Absorption node (Cycles: σa = (1 − colour) / distance). Transmission without the
+//!   extension is a solid in both for now (the specification's thin wall there waits for the
+//!   reading flag: it would change the café's glass).
 //! - Occlusion textures are ignored without a word: a path tracer computes occlusion itself.
 //! - `KHR_materials_specular` and `KHR_materials_transmission` textures multiply their factors.
 //! - `KHR_materials_ior` also sets the dielectric F0 of the opaque lobes, as the extension
@@ -38,7 +40,10 @@ pub(super) enum Reading {
 /// names what is malformed.
 fn volume(raw: Option<&Value>, reading: Reading) -> Result<(bool, Vec3), String> {
     let Some(v) = raw.and_then(|r| r.get("extensions")).and_then(|e| e.get("KHR_materials_volume")) else {
-        return Ok((reading == Reading::Spec, Vec3::ZERO));
+        // The specification makes such a surface a thin wall, Blender a solid. Until the
+        // command line chooses the reading (issue 39's "two readings" flag), every file keeps
+        // the solid, as before: the café's glass (not from Blender) must not change.
+        return Ok((false, Vec3::ZERO));
     };
     let number = |key: &str, default: f64| -> Result<f64, String> {
         match v.get(key) {
@@ -249,7 +254,7 @@ pub(super) fn convert(
         Ok(v) => v,
         Err(e) => {
             textures.warn(format!("{label}: malformed KHR_materials_volume ({e}); it is ignored"));
-            (reading == Reading::Spec, Vec3::ZERO)
+            (false, Vec3::ZERO)
         }
     };
 
