@@ -96,7 +96,7 @@ pub fn factor(f0: Vec3, mu: f32, roughness: f32) -> Vec3 {
 }
 
 /// Cycles' grid of the layer-albedo table: 16 points per axis.
-const M: usize = 16;
+pub(super) const M: usize = 16;
 
 /// One η slice of s̄: [μ][roughness] at μ, roughness = i / 15 (clamped to ≥ 1e-4), for
 /// z = F0(η)^¼ = k / 15 (clamped to [1e-4, 0.99]), as Cycles' `cycles_precompute` lays it out.
@@ -133,18 +133,24 @@ fn s_slice(k: usize) -> &'static [[f32; M]; M] {
 
 /// s̄(μ, roughness, z), trilinear on the grid (Cycles' `lookup_table_read_3D`).
 fn layer_s(mu: f32, roughness: f32, z: f32) -> f32 {
+    trilinear(s_slice, roughness, mu, z)
+}
+
+/// A table of Cycles' 16³ grid read trilinearly (its `lookup_table_read_3D`): `slice(k)` is the
+/// [y][x] table at z = k / 15; x, y, z in [0, 1].
+pub(super) fn trilinear(slice: impl Fn(usize) -> &'static [[f32; M]; M], x: f32, y: f32, z: f32) -> f32 {
     let at = |v: f32| {
-        let x = v.clamp(0.0, 1.0) * (M - 1) as f32;
-        let i = (x as usize).min(M - 2);
-        (i, x - i as f32)
+        let t = v.clamp(0.0, 1.0) * (M - 1) as f32;
+        let i = (t as usize).min(M - 2);
+        (i, t - i as f32)
     };
-    let ((x0, fx), (y0, fy), (z0, fz)) = (at(roughness), at(mu), at(z));
-    let slice = |k: usize| {
-        let t = s_slice(k);
+    let ((x0, fx), (y0, fy), (z0, fz)) = (at(x), at(y), at(z));
+    let read = |k: usize| {
+        let t = slice(k);
         let row = |y: usize| t[y][x0] * (1.0 - fx) + t[y][x0 + 1] * fx;
         row(y0) * (1.0 - fy) + row(y0 + 1) * fy
     };
-    if fz == 0.0 { slice(z0) } else { slice(z0) * (1.0 - fz) + slice(z0 + 1) * fz }
+    if fz == 0.0 { read(z0) } else { read(z0) * (1.0 - fz) + read(z0 + 1) * fz }
 }
 
 /// The dielectric layer's compensation at cos θo = `mu`, as Blender's Principled BSDF computes it

@@ -15,6 +15,7 @@
 //! (a roughness texture with smooth texels). A thin wall (`thin`) transmits the reflected
 //! direction mirrored through the surface: rough, but not bent (the glTF spec's thin wall).
 
+use super::compensation::{M, trilinear};
 use super::dielectric::{fresnel, refract};
 use super::ggx::Ggx;
 use glam::{Vec2, Vec3};
@@ -160,9 +161,6 @@ impl RoughDielectric {
     }
 }
 
-/// Cycles' grid of the glass-albedo table: 16 points per axis.
-const M: usize = 16;
-
 /// One η slice of E: [μ][roughness] for z = √((η − 1)/(η + 1)) = k / 15 (η ≥ 1; `inside`: the
 /// table of 1/η, wo in the denser medium), as Cycles' `ggx_glass_E` / `ggx_glass_inv_E` lay it
 /// out, computed when first needed.
@@ -213,18 +211,7 @@ pub fn glass_albedo(mu: f32, roughness: f32, eta: f32) -> f32 {
     let inside = eta < 1.0;
     let ior = if inside { 1.0 / eta } else { eta };
     let z = ((ior - 1.0) / (ior + 1.0)).abs().sqrt();
-    let at = |v: f32| {
-        let x = v.clamp(0.0, 1.0) * (M - 1) as f32;
-        let i = (x as usize).min(M - 2);
-        (i, x - i as f32)
-    };
-    let ((x0, fx), (y0, fy), (z0, fz)) = (at(roughness), at(mu), at(z));
-    let slice = |k: usize| {
-        let t = e_slice(k, inside);
-        let row = |y: usize| t[y][x0] * (1.0 - fx) + t[y][x0 + 1] * fx;
-        row(y0) * (1.0 - fy) + row(y0 + 1) * fy
-    };
-    if fz == 0.0 { slice(z0) } else { slice(z0) * (1.0 - fz) + slice(z0 + 1) * fz }
+    trilinear(|k| e_slice(k, inside), roughness, mu, z)
 }
 
 #[cfg(test)]
