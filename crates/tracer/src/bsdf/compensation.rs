@@ -103,32 +103,43 @@ pub(super) const M: usize = 16;
 fn s_slice(k: usize) -> &'static [[f32; M]; M] {
     static SLICES: [OnceLock<[[f32; M]; M]>; M] = [const { OnceLock::new() }; M];
     SLICES[k].get_or_init(|| {
-        let z = (k as f32 / (M - 1) as f32).clamp(1e-4, 0.99);
-        let r = z * z; // √F0(η)
-        let layer = LayerFresnel::new(Vec3::ZERO, (1.0 + r) / (1.0 - r));
-        // Stratified 32 × 32 samples per cell, as for E.
-        const S: usize = 32;
-        let mut t = [[0.0f32; M]; M];
-        for (mi, row) in t.iter_mut().enumerate() {
-            let mu = (mi as f32 / (M - 1) as f32).max(1e-4);
-            let wo = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
-            for (ri, cell) in row.iter_mut().enumerate() {
-                let ggx = Ggx::from_roughness((ri as f32 / (M - 1) as f32).max(1e-4));
-                let mut sum = 0.0f64;
-                for i in 0..S {
-                    for j in 0..S {
-                        let u = Vec2::new((i as f32 + 0.5) / S as f32, (j as f32 + 0.5) / S as f32);
-                        let h = ggx.sample_visible_normal(wo, u);
-                        if (2.0 * wo.dot(h) * h - wo).z >= 0.0 {
-                            sum += layer.s(wo.dot(h)) as f64;
-                        }
+        grid_slice(k, |ior, wo, roughness| {
+            let layer = LayerFresnel::new(Vec3::ZERO, ior);
+            let ggx = Ggx::from_roughness(roughness);
+            // Stratified 32 × 32 samples per cell, as for E.
+            const S: usize = 32;
+            let mut sum = 0.0f64;
+            for i in 0..S {
+                for j in 0..S {
+                    let u = Vec2::new((i as f32 + 0.5) / S as f32, (j as f32 + 0.5) / S as f32);
+                    let h = ggx.sample_visible_normal(wo, u);
+                    if (2.0 * wo.dot(h) * h - wo).z >= 0.0 {
+                        sum += layer.s(wo.dot(h)) as f64;
                     }
                 }
-                *cell = (sum / (S * S) as f64) as f32;
             }
-        }
-        t
+            (sum / (S * S) as f64) as f32
+        })
     })
+}
+
+/// One slice of a table on Cycles' 16³ grid, as its `cycles_precompute` lays them out:
+/// [μ][roughness] of `cell(ior, wo, roughness)` at μ = i / 15 (≥ 1e-4; wo in the xz plane) and
+/// roughness = j / 15 (≥ 1e-4), for ior = (1 + z²)/(1 − z²), z = k / 15 clamped to [1e-4, 0.99]
+/// (z = F0(ior)^¼).
+pub(super) fn grid_slice(k: usize, cell: impl Fn(f32, Vec3, f32) -> f32) -> [[f32; M]; M] {
+    let z = (k as f32 / (M - 1) as f32).clamp(1e-4, 0.99);
+    let r = z * z; // √F0
+    let ior = (1.0 + r) / (1.0 - r);
+    let mut t = [[0.0f32; M]; M];
+    for (mi, row) in t.iter_mut().enumerate() {
+        let mu = (mi as f32 / (M - 1) as f32).max(1e-4);
+        let wo = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
+        for (ri, value) in row.iter_mut().enumerate() {
+            *value = cell(ior, wo, (ri as f32 / (M - 1) as f32).max(1e-4));
+        }
+    }
+    t
 }
 
 /// s̄(μ, roughness, z), trilinear on the grid (Cycles' `lookup_table_read_3D`).

@@ -15,7 +15,7 @@
 //! (a roughness texture with smooth texels). A thin wall (`thin`) transmits the reflected
 //! direction mirrored through the surface: rough, but not bent (the glTF spec's thin wall).
 
-use super::compensation::{M, trilinear};
+use super::compensation::{M, grid_slice, trilinear};
 use super::dielectric::{fresnel, refract};
 use super::ggx::Ggx;
 use glam::{Vec2, Vec3};
@@ -167,41 +167,32 @@ impl RoughDielectric {
 fn e_slice(k: usize, inside: bool) -> &'static [[f32; M]; M] {
     static SLICES: [[OnceLock<[[f32; M]; M]>; M]; 2] = [const { [const { OnceLock::new() }; M] }; 2];
     SLICES[inside as usize][k].get_or_init(|| {
-        let z = (k as f32 / (M - 1) as f32).clamp(1e-4, 0.99);
-        let r = z * z;
-        let ior = (1.0 + r) / (1.0 - r);
-        let eta = if inside { 1.0 / ior } else { ior };
-        // Stratified 32 × 32 directions, with the Fresnel choice from a third stratified axis.
-        const S: usize = 32;
-        let mut t = [[0.0f32; M]; M];
-        for (mi, row) in t.iter_mut().enumerate() {
-            let mu = (mi as f32 / (M - 1) as f32).max(1e-4);
-            let wo = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
-            for (ri, cell) in row.iter_mut().enumerate() {
-                let lobe = RoughDielectric {
-                    ggx: Ggx::from_roughness(ri as f32 / (M - 1) as f32),
-                    eta,
-                    scale: 1.0,
-                    tint: Vec3::ONE,
-                    thin: false,
-                };
-                let mut sum = 0.0f64;
-                for i in 0..S {
-                    for j in 0..S {
-                        let u = Vec2::new((i as f32 + 0.5) / S as f32, (j as f32 + 0.5) / S as f32);
-                        let u_lobe = ((i * S + j) as f32 * 0.618_034).fract();
-                        if let Some(s) = lobe.sample(wo, u, u_lobe) {
-                            // E counts transmission without the radiance compression (Cycles'
-                            // convention: the albedo of the interface, ≤ 1).
-                            let back = if s.wi.z < 0.0 { eta * eta } else { 1.0 };
-                            sum += (s.weight.x * back) as f64;
-                        }
+        grid_slice(k, |ior, wo, roughness| {
+            let eta = if inside { 1.0 / ior } else { ior };
+            let lobe = RoughDielectric {
+                ggx: Ggx::from_roughness(roughness),
+                eta,
+                scale: 1.0,
+                tint: Vec3::ONE,
+                thin: false,
+            };
+            // Stratified 32 × 32 directions, with the Fresnel choice from a third stratified axis.
+            const S: usize = 32;
+            let mut sum = 0.0f64;
+            for i in 0..S {
+                for j in 0..S {
+                    let u = Vec2::new((i as f32 + 0.5) / S as f32, (j as f32 + 0.5) / S as f32);
+                    let u_lobe = ((i * S + j) as f32 * 0.618_034).fract();
+                    if let Some(s) = lobe.sample(wo, u, u_lobe) {
+                        // E counts transmission without the radiance compression (Cycles'
+                        // convention: the albedo of the interface, ≤ 1).
+                        let back = if s.wi.z < 0.0 { eta * eta } else { 1.0 };
+                        sum += (s.weight.x * back) as f64;
                     }
                 }
-                *cell = (sum / (S * S) as f64) as f32;
             }
-        }
-        t
+            (sum / (S * S) as f64) as f32
+        })
     })
 }
 
