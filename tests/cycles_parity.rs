@@ -159,4 +159,6 @@ parity!(
     transmission,
     half_metal_glass,
     coat,
+    rough_glass,
+    absorbing_glass,
 );

@@ -19,6 +19,7 @@ mod farm;
 mod first_use;
 mod furnace;
 mod fuzz_properties;
+mod glass;
 mod gltf_samples;
 mod golden;
 mod layers;

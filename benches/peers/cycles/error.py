@@ -1,4 +1,4 @@
-"""Time × relMSE of mcctrace and Cycles from `cafe.sh`'s folder: per view and renderer, the
+"""Time × relMSE of mcctrace and Cycles from `cafe.sh`'s (or `glass.sh`'s) folder: per view and renderer, the
 variance part of relMSE from its two seeds, mean over pixels and channels of
 (a − b)² / 2 / (r² + 0.01), r the mean of all four renders (one r for both renderers), times the
 mean seconds of its two renders; then mcctrace's product over Cycles' (≤ 0.5 is issue 25's
@@ -22,7 +22,8 @@ def main():
         for who, view, _seed, spp, s in csv.reader(f):
             seconds.setdefault((who, view), []).append(float(s))
             seconds[(who, view, "spp")] = int(spp)
-    views = sorted({k[1] for k in seconds if len(k) == 2}, key=["wide", "left", "right"].index)
+    order = ["wide", "left", "right"]
+    views = sorted({k[1] for k in seconds if len(k) == 2}, key=lambda v: (order + [v]).index(v))
     print("view,renderer,spp,seconds,rel_mse,time_x_rel_mse,ratio_to_cycles")
     for view in views:
         images = {w: [load_rgb(os.path.join(folder, f"{w}-{view}-{s}.exr")) for s in (1, 2)]

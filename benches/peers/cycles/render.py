@@ -105,6 +105,17 @@ def environment(scene, path):
     scene.world = world
 
 
+def uniform_sky(scene, radiance):
+    """A world of constant radiance (a Background node of that grey, strength 1), as mcctrace's
+    `--sky` gives a model without light; Cycles samples it as a light, as mcctrace does."""
+    world = bpy.data.worlds.new("sky")
+    world.use_nodes = True
+    background = world.node_tree.nodes["Background"]
+    background.inputs["Color"].default_value = (radiance, radiance, radiance, 1.0)
+    background.inputs["Strength"].default_value = 1.0
+    scene.world = world
+
+
 def configure(scene, size, spp, depth, seed, threads, denoise=False, guiding=False):
     scene.render.engine = "CYCLES"
     c = scene.cycles
@@ -212,6 +223,7 @@ def main():
     p.add_argument("--denoise", action="store_true", help="Cycles' OIDN denoiser on (albedo+normal)")
     p.add_argument("--env-map", help="an equirectangular image lighting the scene (a world)")
     p.add_argument("--guiding", action="store_true", help="Cycles' path guiding on")
+    p.add_argument("--sky", type=float, help="a uniform world of this radiance (mcctrace's --sky)")
     a = p.parse_args(argv)
     size = tuple(int(v) for v in a.size.split(","))
     scene = import_scene(a.gltf, a.camera)
@@ -221,6 +233,8 @@ def main():
     if a.env_map:
         environment(scene, a.env_map)
     configure(scene, size, a.spp, a.depth, a.seed, a.threads, a.denoise, a.guiding)
+    if a.sky is not None:
+        uniform_sky(scene, a.sky)
     seconds = render(scene, a.out)
     image = load_rgb(a.out)
     print(f"{a.out}: {a.spp} spp in {seconds:.2f} s, channel means {image.mean(axis=(0, 1))}")

@@ -13,6 +13,7 @@ relMSE (otherwise the column is nan).
 """
 
 import argparse
+import json
 import math
 import os
 import shutil
@@ -297,6 +298,55 @@ def scene_coat(folder):
                         one_sided=True))
 
 
+def panel_light(strength=3.0):
+    """The large one-sided panel above the scene that smooth_metal uses: glass reflects and
+    transmits it by BSDF sampling, without the fireflies a point light's caustic would make."""
+    panel = plane("panel", (3.0, 2.0, 1.0), (0.0, -1.0, 3.0), (math.pi, 0.0, 0.0))
+    add(panel, material("panel", base=(0.0, 0.0, 0.0), specular=0.0, emission=(1.0, 1.0, 1.0), strength=strength,
+                        one_sided=True))
+
+
+def scene_rough_glass(folder):
+    """A frosted glass sphere (transmission 1, roughness 0.3, IOR 1.5) over the checker floor:
+    Cycles' microfacet glass (GGX, energy-compensated), lit by the panel."""
+    tex = checker(folder, "checker_warm", ((200, 120, 40), (40, 60, 90)))
+    room(material("floor", specular=0.0, roughness=1.0, base_texture=tex), grey(0.6), floor_uv=3.0)
+    add(sphere("glass", 0.7, (0.0, 0.0, 0.7)), material("glass", base=(1.0, 1.0, 1.0), roughness=0.3, transmission=1.0))
+    panel_light()
+
+
+def scene_absorbing_glass(folder):
+    """A smooth glass sphere filled with a coloured absorbing medium (KHR_materials_volume,
+    attenuation colour (0.9, 0.5, 0.2) at distance 0.5: Blender's importer builds a Volume
+    Absorption node of that colour and density 2), over the checker floor, lit by the panel.
+    Blender's exporter writes the extension only from its glTF Material Output group, so
+    `VOLUME_PATCHES` adds it to the exported file, which both renderers then read."""
+    tex = checker(folder, "checker_warm", ((200, 120, 40), (40, 60, 90)))
+    room(material("floor", specular=0.0, roughness=1.0, base_texture=tex), grey(0.6), floor_uv=3.0)
+    add(sphere("glass", 0.7, (0.0, 0.0, 0.7)), material("glass", base=(1.0, 1.0, 1.0), roughness=0.0, transmission=1.0))
+    panel_light()
+
+
+# KHR_materials_volume added to a material of the exported file: scene → (material, extension).
+VOLUME_PATCHES = {
+    "absorbing_glass": ("glass", {"thicknessFactor": 1.0, "attenuationDistance": 0.5,
+                                  "attenuationColor": [0.9, 0.5, 0.2]}),
+}
+
+
+def patch_volume(path, material_name, extension):
+    with open(path, encoding="utf-8") as f:
+        doc = json.load(f)
+    for m in doc["materials"]:
+        if m.get("name") == material_name:
+            m.setdefault("extensions", {})["KHR_materials_volume"] = extension
+    used = doc.setdefault("extensionsUsed", [])
+    if "KHR_materials_volume" not in used:
+        used.append("KHR_materials_volume")
+    with open(path, "w", encoding="utf-8") as f:
+        json.dump(doc, f, indent=2)
+
+
 SCENES = {name[len("scene_"):]: f for name, f in globals().items() if name.startswith("scene_")}
 
 
@@ -311,6 +361,8 @@ def author(name):
     path = os.path.join(folder, name + ".gltf")
     bpy.ops.export_scene.gltf(filepath=path, export_format="GLTF_SEPARATE", export_cameras=True,
                               export_lights=True, export_yup=True, export_apply=True)
+    if name in VOLUME_PATCHES:
+        patch_volume(path, *VOLUME_PATCHES[name])
     return path
 
 

@@ -1,7 +1,7 @@
 //! Materials as scenes describe them: the glTF 2.0 metallic-roughness model (glTF spec,
 //! Appendix B) with its textures, alpha modes, `KHR_materials_specular`,
 //! `KHR_materials_emissive_strength`, `KHR_materials_transmission`, `KHR_materials_ior` and
-//! `KHR_materials_clearcoat`.
+//! `KHR_materials_clearcoat` and `KHR_materials_volume`.
 //! OBJ/MTL materials map onto the same parameters (see `scene::obj`). The BSDF built from these
 //! parameters at a hit lives in `crate::bsdf`.
 
@@ -81,6 +81,17 @@ impl MaterialTextures {
     }
 }
 
+/// `KHR_materials_volume`'s parameters, as the file gives them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Volume {
+    /// `thicknessFactor`: 0 makes the surface a thin wall in the specification's reading.
+    pub thickness: f32,
+    /// `attenuationColor`: what white light keeps after `distance` inside.
+    pub colour: Vec3,
+    /// `attenuationDistance` (infinite: no absorption).
+    pub distance: f32,
+}
+
 /// A surface material: linear-RGB factors of the glTF metallic-roughness model.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
@@ -117,6 +128,17 @@ pub struct Material {
     pub coat: f32,
     /// `KHR_materials_clearcoat` `clearcoatRoughnessFactor`: the coat's perceptual roughness.
     pub coat_roughness: f32,
+    /// `KHR_materials_volume` as the file gives it; [`Material::thin_walled`] and
+    /// [`Material::attenuation`] are derived from it in the file's reading.
+    pub volume: Option<Volume>,
+    /// The transmissive surface is a thin wall, not the boundary of a solid: light passes
+    /// through unbent (the glTF spec's reading of transmission without `KHR_materials_volume`,
+    /// or with `thicknessFactor` 0); otherwise it refracts into the enclosed medium.
+    pub thin_walled: bool,
+    /// Absorption coefficient σa (per world unit, linear RGB) of the medium a closed
+    /// transmissive mesh encloses (`KHR_materials_volume`, as Cycles' Volume Absorption): light
+    /// inside keeps exp(−σa·distance). Zero: clear.
+    pub attenuation: Vec3,
     /// `KHR_materials_unlit`, as Blender imports it: camera rays see the base colour (× texture
     /// × vertex colour) as emitted radiance and end there; every other ray passes through, so
     /// the surface neither lights nor shadows the scene.
@@ -144,6 +166,9 @@ impl Default for Material {
             ior: 1.5,
             coat: 0.0,
             coat_roughness: 0.0,
+            volume: None,
+            thin_walled: false,
+            attenuation: Vec3::ZERO,
             unlit: false,
             textures: MaterialTextures::default(),
         }
@@ -167,6 +192,11 @@ impl Material {
         self.metallic > 0.0 || self.specular > 0.0 || self.transmission > 0.0 || self.coat > 0.0
     }
 
+    /// True when the material's transmission encloses an absorbing medium.
+    pub fn has_volume(&self) -> bool {
+        self.transmission > 0.0 && !self.thin_walled && self.attenuation != Vec3::ZERO
+    }
+
     /// True when some of the surface may be missing for some rays (alpha mask or blend, or an
     /// unlit surface, which only camera rays see).
     pub fn has_alpha(&self) -> bool {
@@ -182,13 +212,15 @@ impl Material {
             && self.specular_color.is_finite()
             && self.emission.is_finite()
             && self.coat.is_finite()
-            && self.coat_roughness.is_finite();
+            && self.coat_roughness.is_finite()
+            && self.attenuation.is_finite();
         if !finite {
             return Err(format!("material '{}' has a non-finite factor", self.name));
         }
         if self.base_color.min_element() < 0.0
             || self.emission.min_element() < 0.0
             || self.specular_color.min_element() < 0.0
+            || self.attenuation.min_element() < 0.0
         {
             return Err(format!("material '{}' has a negative colour", self.name));
         }

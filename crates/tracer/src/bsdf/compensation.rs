@@ -96,55 +96,72 @@ pub fn factor(f0: Vec3, mu: f32, roughness: f32) -> Vec3 {
 }
 
 /// Cycles' grid of the layer-albedo table: 16 points per axis.
-const M: usize = 16;
+pub(super) const M: usize = 16;
 
 /// One η slice of s̄: [μ][roughness] at μ, roughness = i / 15 (clamped to ≥ 1e-4), for
 /// z = F0(η)^¼ = k / 15 (clamped to [1e-4, 0.99]), as Cycles' `cycles_precompute` lays it out.
 fn s_slice(k: usize) -> &'static [[f32; M]; M] {
     static SLICES: [OnceLock<[[f32; M]; M]>; M] = [const { OnceLock::new() }; M];
     SLICES[k].get_or_init(|| {
-        let z = (k as f32 / (M - 1) as f32).clamp(1e-4, 0.99);
-        let r = z * z; // √F0(η)
-        let layer = LayerFresnel::new(Vec3::ZERO, (1.0 + r) / (1.0 - r));
-        // Stratified 32 × 32 samples per cell, as for E.
-        const S: usize = 32;
-        let mut t = [[0.0f32; M]; M];
-        for (mi, row) in t.iter_mut().enumerate() {
-            let mu = (mi as f32 / (M - 1) as f32).max(1e-4);
-            let wo = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
-            for (ri, cell) in row.iter_mut().enumerate() {
-                let ggx = Ggx::from_roughness((ri as f32 / (M - 1) as f32).max(1e-4));
-                let mut sum = 0.0f64;
-                for i in 0..S {
-                    for j in 0..S {
-                        let u = Vec2::new((i as f32 + 0.5) / S as f32, (j as f32 + 0.5) / S as f32);
-                        let h = ggx.sample_visible_normal(wo, u);
-                        if (2.0 * wo.dot(h) * h - wo).z >= 0.0 {
-                            sum += layer.s(wo.dot(h)) as f64;
-                        }
+        grid_slice(k, |ior, wo, roughness| {
+            let layer = LayerFresnel::new(Vec3::ZERO, ior);
+            let ggx = Ggx::from_roughness(roughness);
+            // Stratified 32 × 32 samples per cell, as for E.
+            const S: usize = 32;
+            let mut sum = 0.0f64;
+            for i in 0..S {
+                for j in 0..S {
+                    let u = Vec2::new((i as f32 + 0.5) / S as f32, (j as f32 + 0.5) / S as f32);
+                    let h = ggx.sample_visible_normal(wo, u);
+                    if (2.0 * wo.dot(h) * h - wo).z >= 0.0 {
+                        sum += layer.s(wo.dot(h)) as f64;
                     }
                 }
-                *cell = (sum / (S * S) as f64) as f32;
             }
-        }
-        t
+            (sum / (S * S) as f64) as f32
+        })
     })
+}
+
+/// One slice of a table on Cycles' 16³ grid, as its `cycles_precompute` lays them out:
+/// [μ][roughness] of `cell(ior, wo, roughness)` at μ = i / 15 (≥ 1e-4; wo in the xz plane) and
+/// roughness = j / 15 (≥ 1e-4), for ior = (1 + z²)/(1 − z²), z = k / 15 clamped to [1e-4, 0.99]
+/// (z = F0(ior)^¼).
+pub(super) fn grid_slice(k: usize, cell: impl Fn(f32, Vec3, f32) -> f32) -> [[f32; M]; M] {
+    let z = (k as f32 / (M - 1) as f32).clamp(1e-4, 0.99);
+    let r = z * z; // √F0
+    let ior = (1.0 + r) / (1.0 - r);
+    let mut t = [[0.0f32; M]; M];
+    for (mi, row) in t.iter_mut().enumerate() {
+        let mu = (mi as f32 / (M - 1) as f32).max(1e-4);
+        let wo = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
+        for (ri, value) in row.iter_mut().enumerate() {
+            *value = cell(ior, wo, (ri as f32 / (M - 1) as f32).max(1e-4));
+        }
+    }
+    t
 }
 
 /// s̄(μ, roughness, z), trilinear on the grid (Cycles' `lookup_table_read_3D`).
 fn layer_s(mu: f32, roughness: f32, z: f32) -> f32 {
+    trilinear(s_slice, roughness, mu, z)
+}
+
+/// A table of Cycles' 16³ grid read trilinearly (its `lookup_table_read_3D`): `slice(k)` is the
+/// [y][x] table at z = k / 15; x, y, z in [0, 1].
+pub(super) fn trilinear(slice: impl Fn(usize) -> &'static [[f32; M]; M], x: f32, y: f32, z: f32) -> f32 {
     let at = |v: f32| {
-        let x = v.clamp(0.0, 1.0) * (M - 1) as f32;
-        let i = (x as usize).min(M - 2);
-        (i, x - i as f32)
+        let t = v.clamp(0.0, 1.0) * (M - 1) as f32;
+        let i = (t as usize).min(M - 2);
+        (i, t - i as f32)
     };
-    let ((x0, fx), (y0, fy), (z0, fz)) = (at(roughness), at(mu), at(z));
-    let slice = |k: usize| {
-        let t = s_slice(k);
+    let ((x0, fx), (y0, fy), (z0, fz)) = (at(x), at(y), at(z));
+    let read = |k: usize| {
+        let t = slice(k);
         let row = |y: usize| t[y][x0] * (1.0 - fx) + t[y][x0 + 1] * fx;
         row(y0) * (1.0 - fy) + row(y0 + 1) * fy
     };
-    if fz == 0.0 { slice(z0) } else { slice(z0) * (1.0 - fz) + slice(z0 + 1) * fz }
+    if fz == 0.0 { read(z0) } else { read(z0) * (1.0 - fz) + read(z0 + 1) * fz }
 }
 
 /// The dielectric layer's compensation at cos θo = `mu`, as Blender's Principled BSDF computes it

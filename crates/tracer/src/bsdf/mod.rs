@@ -11,11 +11,11 @@
 //! builds only the layers it has: without a coat the stack is the base alone, bit for bit, and
 //! the Lambert-only path ([`Bsdf::lambert`]) builds nothing else.
 //!
-//! Transmission (glass) is the integrator's choice, not a lobe here: a delta interface,
-//! [`dielectric::Dielectric`], taken with probability (1 − metallic)·transmission; what is not
-//! glass is this stack with the metalness [`BsdfParams::opaque_metallic`] gives, so that metal,
-//! glass and the dielectric over diffuse keep the weights of Cycles' Principled BSDF. (A rough
-//! BTDF takes that seam's place; the coat then lies over the opaque part alone.)
+//! Transmission (glass) is the integrator's choice, not a lobe here: [`dielectric::Dielectric`]
+//! when smooth, [`rough_dielectric::RoughDielectric`] when rough or a thin wall, taken with
+//! probability (1 − metallic)·transmission; what is not glass is this stack with the metalness
+//! [`BsdfParams::opaque_metallic`] gives, so that metal, glass and the dielectric over diffuse
+//! keep the weights of Cycles' Principled BSDF (the coat lies over the opaque part alone).
 //!
 //! Sampling picks a layer in proportion to an estimate of its albedo for wo, then a lobe
 //! within it, and reports the whole stack's mixture density.
@@ -28,6 +28,7 @@ pub mod fresnel;
 pub mod ggx;
 pub mod lambert;
 pub mod raised_normal;
+pub mod rough_dielectric;
 
 use crate::material::Material;
 use crate::sampling::Frame;

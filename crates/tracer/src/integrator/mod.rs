@@ -3,8 +3,10 @@
 //! (a light tree), plus a BSDF sample that continues the path; both estimators of direct light (emissive triangles, the
 //! environment image) are combined by multiple importance sampling with the power heuristic.
 //! Delta events (glass, punctual lights) take no MIS. Transmissive materials are a mixture:
-//! with probability transmission × (1 − metallic) the hit is a smooth dielectric interface,
-//! otherwise the opaque metallic-roughness BSDF. Russian roulette from a chosen depth; a
+//! with probability transmission × (1 − metallic) the hit is a dielectric interface (smooth, or
+//! rough GGX glass, which takes no light sample either), otherwise the opaque metallic-roughness
+//! BSDF. A path that refracts into a closed mesh with an absorbing volume carries that medium
+//! and its Beer–Lambert attenuation until it refracts out. Russian roulette from a chosen depth; a
 //! maximum depth counted in scattering vertices (the Cornell reference's 4 = Mitsuba's
 //! `max_depth` 5: the light may be reached by the ray leaving the 4th vertex).
 //!
@@ -295,7 +297,7 @@ impl PathTracer {
     ) -> PathSample {
         let mut out = PathSample { radiance: Vec3::ZERO, rays: 0 };
         let split = self.config.split;
-        let camera = PathState::camera(ray, sampler.branch(split, 0), u_light);
+        let mut camera = PathState::camera(ray, sampler.branch(split, 0), u_light);
         let found = camera.find::<ALPHA, LAMBERT>(self, &mut out);
         if AOV {
             *first = found.as_ref().map_or(MISSED, |v| v.first_hit());

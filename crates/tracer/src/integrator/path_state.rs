@@ -4,6 +4,7 @@
 
 use super::{FirstHit, PathSample, PathTracer};
 use crate::bsdf::dielectric::Dielectric;
+use crate::bsdf::rough_dielectric::RoughDielectric;
 use crate::bsdf::{Bsdf, BsdfParams};
 use crate::bvh::{Hit, Leaving};
 use crate::interaction::SurfaceInteraction;
@@ -14,6 +15,27 @@ use crate::sampler::{Sampler, sets};
 use crate::sampling::{Frame, power_heuristic};
 use crate::shading::ShadingPoint;
 use glam::{Vec2, Vec3};
+
+/// Samples the rough (or thin-walled) glass lobe at `v` with numbers `u` (the microfacet) and
+/// `u_fresnel` (reflection or transmission): the world direction and its weight f·|cos|/pdf, or
+/// `None` where the direction would leave on the wrong side of the geometry.
+#[inline]
+fn rough_glass(v: &Vertex, u: Vec2, u_fresnel: f32) -> Option<(Vec3, Vec3)> {
+    let ng = v.si.n_geom;
+    let entering = ng.dot(v.wo) > 0.0;
+    // The shading normal on wo's side of the geometry, and η the far side's over wo's.
+    let n = if v.sp.normal.dot(ng) < 0.0 { -v.sp.normal } else { v.sp.normal };
+    let (n, eta) = if entering { (n, v.material.ior) } else { (-n, 1.0 / v.material.ior) };
+    let frame = Frame::from_z(n);
+    let mut wo = frame.to_local(v.wo);
+    wo.z = wo.z.max(1e-6);
+    let wo = wo.normalize();
+    let lobe = RoughDielectric::new(v.sp.roughness, eta, wo, v.sp.base_color, v.material.thin_walled);
+    let s = lobe.sample(wo, u, u_fresnel)?;
+    let wi = frame.from_local(s.wi);
+    // A reflection stays on wo's side of the geometry, a transmission crosses it.
+    ((wi.dot(ng) > 0.0) == (entering == (s.wi.z > 0.0))).then_some((wi, s.weight))
+}
 
 /// A shaded path vertex: the hit, its surface, and its material evaluated there.
 #[derive(Clone, Copy)]
@@ -95,6 +117,10 @@ pub(super) struct PathState {
     u_light: Vec2,
     /// The path's numbers (branch b of camera sample i: sample i·N + b).
     sampler: Sampler,
+    /// The absorption σa of the medium `ray` travels through (entered by refracting into a
+    /// closed transmissive mesh with `KHR_materials_volume`), `None` outside any: Beer–Lambert
+    /// attenuation exp(−σa·t) along the segment. Scenes without a volume never set it.
+    medium: Option<Vec3>,
 }
 
 /// The one-dimensional decisions at a vertex, drawn from its set only when one is needed.
@@ -137,6 +163,7 @@ impl PathState {
             leaving: Leaving::NOTHING,
             u_light,
             sampler,
+            medium: None,
         }
     }
 
@@ -170,13 +197,21 @@ impl PathState {
     /// constant environment (which light sampling never picks).
     #[inline(always)]
     pub(super) fn find<'t, const ALPHA: bool, const LAMBERT: bool>(
-        &self,
+        &mut self,
         tracer: &'t PathTracer,
         out: &mut PathSample,
     ) -> Option<Vertex<'t>> {
         let ray = &self.ray;
         out.rays += 1;
-        let Some(hit) = tracer.closest_hit::<ALPHA>(ray, self.leaving, self.depth == 0) else {
+        let found = tracer.closest_hit::<ALPHA>(ray, self.leaving, self.depth == 0);
+        if let (false, Some(sigma)) = (LAMBERT, self.medium) {
+            // Beer–Lambert along the segment; a ray that escapes from inside a medium (a mesh
+            // that is not closed) keeps only the channels the medium does not absorb.
+            let t = found.as_ref().map_or(f32::INFINITY, |h| h.t);
+            self.beta *= Vec3::select(sigma.cmpgt(Vec3::ZERO), (-sigma * t).exp(), Vec3::ONE);
+        }
+        let ray = &self.ray;
+        let Some(hit) = found else {
             let env = tracer.lights.environment();
             let le = env.map_or(tracer.environment, |e| e.radiance(ray.direction));
             if le != Vec3::ZERO {
@@ -225,13 +260,29 @@ impl PathState {
             && glass_weight > 0.0
             && (glass_weight >= 1.0 || decisions.get(Decisions::GLASS) < glass_weight);
         if glass {
-            let lobe = Dielectric::new(v.sp.normal, v.si.n_geom, v.wo, v.material.ior, v.sp.base_color);
-            let Some(s) = lobe.sample(decisions.get(Decisions::FRESNEL)) else { return false };
-            let [_, _, l0, l1] = self.sampler.get(sets::vertex(depth));
+            let [u0, u1, l0, l1] = self.sampler.get(sets::vertex(depth));
+            let u_fresnel = decisions.get(Decisions::FRESNEL);
+            // Index 1 bends nothing, rough or not: the smooth interface is exact there (and
+            // Walter's half vector of an unbent refraction is undefined).
+            let smooth = v.sp.roughness == 0.0 || v.material.ior == 1.0;
+            let (wi, weight) = if smooth && !v.material.thin_walled {
+                let lobe = Dielectric::new(v.sp.normal, v.si.n_geom, v.wo, v.material.ior, v.sp.base_color);
+                let Some(s) = lobe.sample(u_fresnel) else { return false };
+                (s.wi, s.weight)
+            } else {
+                let Some(s) = rough_glass(v, Vec2::new(u0, u1), u_fresnel) else { return false };
+                s
+            };
             self.u_light = Vec2::new(l0, l1);
-            self.beta *= s.weight;
+            self.beta *= weight;
+            // Rough glass takes no light sample either: what its ray finds counts in full.
             self.specular = true;
-            self.ray = v.si.spawn_ray(s.wi, time);
+            self.ray = v.si.spawn_ray(wi, time);
+            let entering = v.si.n_geom.dot(v.wo) > 0.0;
+            if !v.material.thin_walled && (wi.dot(v.si.n_geom) > 0.0) != entering {
+                // Refracted: into the medium the mesh encloses, or out of it into clear space.
+                self.medium = (entering && v.material.has_volume()).then_some(v.material.attenuation);
+            }
         } else {
             let bsdf = v.bsdf::<LAMBERT>();
             if bsdf.is_black() {

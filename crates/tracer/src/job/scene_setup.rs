@@ -135,7 +135,7 @@ impl SceneSetup {
     fn apply_lights(&self, scene: &mut Scene) {
         let scale = if self.exposure == 0.0 { 1.0 } else { self.exposure.exp2() };
         if let Some(reading) = self.reading {
-            scene.reading = reading;
+            scene.set_reading(reading);
         }
         let falloff = self.spot_falloff.or(self.reading.map(GltfReading::spot_falloff));
         for light in &mut scene.lights {

@@ -192,6 +192,15 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// Follows `reading` from now on: the materials' `KHR_materials_volume` re-read in it (the
+    /// spot falloff is the caller's to set, as a flag may override it alone).
+    pub fn set_reading(&mut self, reading: GltfReading) {
+        self.reading = reading;
+        for m in &mut self.materials {
+            gltf::apply_reading(m, reading);
+        }
+    }
+
     /// Loads a scene: `.gltf`/`.glb`, `.obj`, or a directory whose `.obj` files form one scene.
     /// An animated scene is returned at t = 0 (its channels' values there, glTF clamping a time
     /// before a channel's first key to that key).

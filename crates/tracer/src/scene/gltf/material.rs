@@ -5,6 +5,15 @@
 //! `KHR_materials_ior`, `KHR_materials_unlit` (as Blender imports it) and
 //! `KHR_materials_clearcoat` (read from the raw JSON: the gltf crate does not parse it).
 //!
+//! - `KHR_materials_volume`: a transmissive material with `thicknessFactor` > 0 bounds a solid
+//!   whose medium absorbs by Beer–Lambert ([`Material::attenuation`]); the thickness texture is
+//!   a rasteriser's stand-in for the distance a path tracer measures through the mesh, so it is
+//!   read for nothing. Two readings ([`GltfReading`], applied by [`apply_reading`]): the specification's, where thickness 0
+//!   is a thin wall and σa = −ln(colour) / distance, and Blender's importer's, where every
+//!   transmissive surface bounds a refracting solid and the colour and 1 / distance become a
+//!   Volume Absorption node (Cycles: σa = (1 − colour) / distance). Transmission without the
+//!   extension is a solid in both for now (the specification's thin wall there waits for the
+//!   reading flag: it would change the café's glass).
 //! - Occlusion textures are ignored without a word: a path tracer computes occlusion itself.
 //! - `KHR_materials_specular` and `KHR_materials_transmission` textures multiply their factors.
 //! - `KHR_materials_ior` also sets the dielectric F0 of the opaque lobes, as the extension
@@ -12,11 +21,65 @@
 //!   0.04 × `specular_color`, so the colour is scaled by F0(ior) / 0.04 (1 at the default 1.5).
 
 use super::textures::{TextureLoader, UvTransform};
-use crate::material::{AlphaMode, Material, MaterialTextures};
+use crate::material::{AlphaMode, Material, MaterialTextures, Volume};
+use crate::scene::GltfReading;
 use crate::scene::images::ColorSpace;
 use crate::texture::TextureRef;
 use glam::Vec3;
 use serde_json::Value;
+
+/// `KHR_materials_volume` read from the material's raw JSON, as the file gives it (`None`
+/// without the extension). `Err` names what is malformed.
+fn volume(raw: Option<&Value>) -> Result<Option<Volume>, String> {
+    let Some(v) = raw.and_then(|r| r.get("extensions")).and_then(|e| e.get("KHR_materials_volume")) else {
+        return Ok(None);
+    };
+    let number = |key: &str, default: f64| -> Result<f64, String> {
+        match v.get(key) {
+            None => Ok(default),
+            Some(x) => x.as_f64().ok_or_else(|| format!("'{key}' must be a number, not {x}")),
+        }
+    };
+    let thickness = number("thicknessFactor", 0.0)?;
+    if !(thickness.is_finite() && thickness >= 0.0) {
+        return Err(format!("'thicknessFactor' {thickness} must be ≥ 0"));
+    }
+    let distance = number("attenuationDistance", f64::INFINITY)?;
+    if !(distance > 0.0) {
+        return Err(format!("'attenuationDistance' {distance} must be > 0"));
+    }
+    let colour = match v.get("attenuationColor") {
+        None => Vec3::ONE,
+        Some(c) => match c.as_array().map(|a| a.iter().map(Value::as_f64).collect::<Vec<_>>()) {
+            Some(a) if a.len() == 3 && a.iter().all(|x| x.is_some_and(|x| (0.0..=1.0).contains(&x))) => {
+                Vec3::new(a[0].unwrap_or(1.0) as f32, a[1].unwrap_or(1.0) as f32, a[2].unwrap_or(1.0) as f32)
+            }
+            _ => return Err(format!("'attenuationColor' must be three numbers in [0, 1], not {c}")),
+        },
+    };
+    Ok(Some(Volume { thickness: thickness as f32, colour, distance: distance as f32 }))
+}
+
+/// Sets `m`'s thin wall and absorption from its `KHR_materials_volume` in `reading`: the
+/// specification makes thickness 0 a thin wall and σa = −ln(colour) / distance; Blender's
+/// importer makes every transmissive surface bound a solid and builds a Volume Absorption node,
+/// σa = (1 − colour) / distance in Cycles. Transmission without the extension stays a solid in
+/// both readings (the specification's thin wall there is not implemented: docs/cycles.md).
+pub(crate) fn apply_reading(m: &mut Material, reading: GltfReading) {
+    let Some(v) = m.volume else {
+        (m.thin_walled, m.attenuation) = (false, Vec3::ZERO);
+        return;
+    };
+    m.thin_walled = reading == GltfReading::Spec && v.thickness == 0.0;
+    m.attenuation = if v.distance.is_infinite() {
+        Vec3::ZERO
+    } else {
+        match reading {
+            GltfReading::Blender => (Vec3::ONE - v.colour) / v.distance,
+            GltfReading::Spec => -v.colour.max(Vec3::splat(1e-6)).map(f32::ln) / v.distance,
+        }
+    };
+}
 
 /// The material glTF prescribes for primitives without one (spec §3.9.2): white, fully metallic,
 /// fully rough. (`Material::default()` is a grey diffuse for other formats' missing materials.)
@@ -97,6 +160,7 @@ pub(super) fn convert(
     m: &gltf::Material,
     raw: Option<&Value>,
     textures: &mut TextureLoader,
+    reading: GltfReading,
 ) -> Result<Material, String> {
     let pbr = m.pbr_metallic_roughness();
     let [r, g, b, alpha] = pbr.base_color_factor();
@@ -184,13 +248,13 @@ pub(super) fn convert(
     let f0_scale = if ior == 1.5 { 1.0 } else { ((ior - 1.0) / (ior + 1.0)).powi(2) / 0.04 };
     let transmission = transmission.map_or(0.0, |t| t.transmission_factor());
     let (metallic, roughness) = (pbr.metallic_factor(), pbr.roughness_factor());
-    if transmission > 0.0 && metallic < 1.0 && roughness > 0.0 {
-        // The glass is a smooth interface: a frosted pane would come out clear without a word.
-        textures.warn(format!(
-            "{label}: rough transmission (roughnessFactor {roughness}, transmission {transmission}) is \
-             rendered as smooth glass; only the reflection off the opaque part is rough"
-        ));
-    }
+    let volume = match volume(raw) {
+        Ok(v) => v,
+        Err(e) => {
+            textures.warn(format!("{label}: malformed KHR_materials_volume ({e}); it is ignored"));
+            None
+        }
+    };
 
     let (coat, coat_roughness) = clearcoat(raw, textures, &label, &mut slots)?;
 
@@ -198,7 +262,7 @@ pub(super) fn convert(
     // rays alone see (a Light Path "Is Camera Ray" mix with a transparent BSDF); the emissive
     // factors do not take part.
     let unlit = raw.and_then(|r| r.get("extensions")).and_then(|e| e.get("KHR_materials_unlit")).is_some();
-    Ok(Material {
+    let mut material = Material {
         base_color: Vec3::new(r, g, b),
         unlit,
         metallic,
@@ -221,9 +285,14 @@ pub(super) fn convert(
         ior,
         coat,
         coat_roughness,
+        volume,
+        thin_walled: false,
+        attenuation: Vec3::ZERO,
         textures: slots,
         name,
-    })
+    };
+    apply_reading(&mut material, reading);
+    Ok(material)
 }
 
 /// A texture reference read from raw JSON (`{"index", "texCoord", "extensions"}`, as the gltf

@@ -41,6 +41,7 @@ use super::rig::{
     Influences, LightKind, MorphTarget, Pose, Primitive, Rig, RigCamera, RigLight, RigNode, Skin,
 };
 use super::{GltfReading, Scene, SceneAnimation, SpotFalloff};
+pub(crate) use material::apply_reading;
 use crate::camera::Projection;
 use crate::error::{Result, TracerError};
 use glam::{Affine3A, Mat4, Quat, Vec3};
@@ -56,6 +57,7 @@ const HANDLED_EXTENSIONS: &[&str] = &[
     "KHR_materials_specular",
     "KHR_materials_transmission",
     "KHR_materials_ior",
+    "KHR_materials_volume",
     "KHR_texture_transform",
     "KHR_mesh_quantization",
     "EXT_meshopt_compression",
@@ -138,17 +140,17 @@ pub(super) fn load_with(path: &Path, keep_rig: bool) -> Result<Scene> {
     }
     let mut textures = textures::TextureLoader::new(&doc, &buffers, base, path);
     let raw_materials = raw.get("materials").and_then(serde_json::Value::as_array);
+    // Blender-exported files keep the falloff and the glass Cycles rendered them with (module docs).
+    let generator = doc.as_json().asset.generator.as_deref().unwrap_or("");
+    let reading = GltfReading::of_generator(generator);
     for m in doc.materials() {
         let raw_material = m.index().and_then(|i| raw_materials.and_then(|a| a.get(i)));
-        let converted = material::convert(&m, raw_material, &mut textures).map_err(err)?;
+        let converted = material::convert(&m, raw_material, &mut textures, reading).map_err(err)?;
         scene.materials.push(converted);
     }
     scene.warnings.append(&mut textures.warnings);
     scene.textures = textures.textures;
-    // Files Blender wrote are read as Blender reads them (module docs): e.g. spot lights keep the
-    // falloff Cycles rendered them with.
-    let generator = doc.as_json().asset.generator.as_deref().unwrap_or("");
-    scene.reading = GltfReading::of_generator(generator);
+    scene.reading = reading;
     let spot_falloff = scene.reading.spot_falloff();
     let mut loader = Loader {
         path,
