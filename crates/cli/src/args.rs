@@ -214,7 +214,7 @@ pub fn denoise_quality(s: &str) -> Result<tracer::denoise::Quality, String> {
     })
 }
 
-/// `--ease`: the remapper's ease control, strictly between 0 and 1 (docs/design.md §5.4).
+/// `--ease`: the remapper's ease control, strictly between 0 and 1 (docs/design/mcc.md §5.4).
 pub fn ease(s: &str) -> Result<f32, String> {
     let g = s.trim().parse::<f32>().map_err(|_| format!("'{s}' is not a number"))?;
     if !(g.is_finite() && g > 0.0 && g < 1.0) {

@@ -9,7 +9,7 @@
 //! Motion blur (a shutter interval): each eye ray gets a time in the shutter interval; the lens
 //! reader interpolates the ray files of frames f and f+1 by it (camera-ray blur), and an
 //! animated scene's moving geometry is posed at the motion steps over the shutter and
-//! interpolated to the ray's time (geometry blur, docs/design.md §3.12, which needs no next
+//! interpolated to the ray's time (geometry blur, docs/design/tracer.md §3.12, which needs no next
 //! frame: the animation holds its last keys past its end).
 
 use super::progress::JobProgress;

@@ -8,7 +8,7 @@
 //! as Blender has it (`fresnel.rs`: the exact Fresnel of the material's η remapped to start at
 //! F0 = min(0.04·specular colour, 1)), and A_d(wo) the compensated dielectric lobe's
 //! directional albedo: the diffuse base loses what the layer above it reflects, as in Blender's
-//! Principled BSDF, rather than glTF's per-direction `fresnel_mix` (docs/design.md §3.10).
+//! Principled BSDF, rather than glTF's per-direction `fresnel_mix` (docs/design/tracer.md §3.10).
 //! Sampling picks the diffuse lobe (cosine) or
 //! the specular lobe (GGX visible normals) in proportion to an estimate of their albedo for wo,
 //! and reports the mixture density, so both lobes' values count at every sampled direction.
@@ -117,7 +117,7 @@ impl Base {
         let (ms_dielectric, ms_metal, diffuse) = if p_specular > 0.0 {
             let (ms_dielectric, layer_albedo) = compensation::dielectric(&layer, mu, p.roughness);
             // The base beneath the dielectric layer gets what the layer does not reflect for this
-            // wo, as in Blender's Principled BSDF (docs/design.md §3.10).
+            // wo, as in Blender's Principled BSDF (docs/design/tracer.md §3.10).
             let beneath = (1.0 - specular * layer_albedo.max_element()).max(0.0);
             (ms_dielectric, compensation::factor(base, mu, p.roughness), diffuse * beneath)
         } else {

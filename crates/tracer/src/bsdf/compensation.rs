@@ -1,11 +1,11 @@
 //! Multiple-scattering energy compensation for the GGX lobe (Turquin, "Practical multiple
 //! scattering compensation for microfacet models", 2019): single-scattering GGX loses the energy
 //! of light that bounces more than once between microfacets (up to 60 % for a rough white
-//! metal; docs/design.md §3.10: Blender scenes 2.5 % darker, 5.5 % on metals). Scaling the lobe by
+//! metal; docs/design/tracer.md §3.10: Blender scenes 2.5 % darker, 5.5 % on metals). Scaling the lobe by
 //! 1 + F·(1 − E(μo))/E(μo), with E the lobe's directional albedo for F = 1, restores it.
 //!
 //! For the dielectric layer (`fresnel.rs`) the module gives what Blender's Principled BSDF layers
-//! with (docs/design.md §3.10), as Cycles computes it: the multiple-scattering Fresnel of Kulla &
+//! with (docs/design/tracer.md §3.10), as Cycles computes it: the multiple-scattering Fresnel of Kulla &
 //! Conty 2017, F_ms = F_avg·E_avg / (1 − F_avg·(1 − E_avg)), and the compensated layer's albedo
 //! (E + F_ms·(1 − E))·(F0 + (1 − F0)·s̄), s̄(μ, roughness, η) the layer Fresnel's interpolation
 //! factor averaged over the visible normals (a reflection below the horizon counting 0), as

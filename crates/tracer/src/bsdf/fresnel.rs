@@ -1,5 +1,5 @@
 //! The dielectric layer's Fresnel as Blender's Principled BSDF has it (Cycles'
-//! `generalized_schlick_fresnel` with a negative exponent; docs/design.md §3.10): the exact
+//! `generalized_schlick_fresnel` with a negative exponent; docs/design/tracer.md §3.10): the exact
 //! Fresnel of the index of refraction η, remapped from [F0(η), 1] onto [F0, 1], F0 the layer's
 //! (tinted) reflectance at normal incidence. Untinted, it is the exact dielectric Fresnel; for
 //! η = 1.5 it is brighter than Schlick's F0 = 0.04 curve between about 40° and 75° and averages

@@ -1,6 +1,6 @@
 //! Blender's bump-map correction for the specular lobes (Cycles'
 //! `ensure_valid_specular_reflection`, on by default in every Blender material;
-//! docs/design.md §3.10): where a shading normal (normal map, interpolated normals) would mirror
+//! docs/design/tracer.md §3.10): where a shading normal (normal map, interpolated normals) would mirror
 //! wo below the surface, the specular lobes use a normal raised towards the geometric one just
 //! enough that the mirror direction leaves at a height of min(0.9·(wo·ng), 0.01). The diffuse
 //! lobe keeps the shading normal.

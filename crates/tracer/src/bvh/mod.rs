@@ -3,7 +3,7 @@
 //! (any-hit, early exit) queries. obvhs types stay behind this module.
 //!
 //! obvhs builds the tree; traversal is ours, on the same tree stored uncompressed
-//! (`node.rs`), which is how its traps (docs/design.md §3.2) are closed and what makes a query
+//! (`node.rs`), which is how its traps (docs/design/tracer.md §3.2) are closed and what makes a query
 //! cheap:
 //! - child boxes are exact f32 boxes of their triangles, tested with no 1e-4 entry cut-off,
 //!   so nearby geometry in small scenes is never culled; slab order and reciprocals come from

@@ -1,4 +1,4 @@
-//! Finding and opening Intel Open Image Denoise at run time (docs/design.md §3.11): the library is
+//! Finding and opening Intel Open Image Denoise at run time (docs/design/tracer.md §3.11): the library is
 //! never linked, so `mcctrace` starts and renders on a machine without it, and only `--denoise`
 //! asks for it. Where it is looked for, in order (the first rule that names a place decides):
 //!

@@ -1,4 +1,4 @@
-//! Denoising with Intel Open Image Denoise (docs/design.md §3.11): OIDN 2.x's `RT` filter on the
+//! Denoising with Intel Open Image Denoise (docs/design/tracer.md §3.11): OIDN 2.x's `RT` filter on the
 //! HDR beauty, guided by the film's first-hit albedo and normal, through a small binding of our
 //! own to OIDN's C API that opens the library at run time ([`loader`]), so nothing of it is
 //! needed to build, start or render without denoising.

@@ -80,7 +80,7 @@ impl Vertex<'_> {
             ior: self.material.ior,
         };
         // The hit's shading frame, unless a normal map moved the normal (then shadowed as Blender
-        // does, docs/design.md §3.10).
+        // does, docs/design/tracer.md §3.10).
         let bsdf = if self.material.textures.normal.is_some() {
             Bsdf::with_frame(&params, Frame::from_z(sp.normal), si.n_geom, self.wo).with_bump(si.shading.z)
         } else {
@@ -337,7 +337,7 @@ impl PathState {
             // Survival √(β / β₁), β₁ the throughput the first vertex passed on: a pixel's value
             // scales with β₁, so paths are judged by what they still carry of their own pixel's
             // light, not by what a bright pixel carries (a dark first surface does not doom its
-            // paths); the root spares paths more than β / β₁ would (docs/design.md §3.3). A
+            // paths); the root spares paths more than β / β₁ would (docs/design/tracer.md §3.3). A
             // split branch's 1/N is in both and cancels.
             let q = (1.0 - (self.beta.max_element() / self.first_beta).sqrt()).max(0.0);
             if decisions.get(Decisions::ROULETTE) < q {

@@ -106,7 +106,7 @@ impl<'a> RenderInfo<'a> {
         q.denoise.map(|quality| Settings::for_final(quality, spp, lens, motion))
     }
 
-    /// The `mcctrace/…` header attributes besides the render's counts (docs/design.md §3.6):
+    /// The `mcctrace/…` header attributes besides the render's counts (docs/design/tracer.md §3.6):
     /// stable keys; those of the provenance only when known.
     pub fn settings(&self) -> Vec<(&'a str, String)> {
         let q = self.quality;

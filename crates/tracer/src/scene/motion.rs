@@ -1,4 +1,4 @@
-//! Geometry in motion within one frame's shutter (docs/design.md §3.12): the scene's vertices
+//! Geometry in motion within one frame's shutter (docs/design/tracer.md §3.12): the scene's vertices
 //! at the motion steps, evenly spaced from the shutter's opening to its closing, as Cycles
 //! stores a deforming mesh (`motion_steps`). A ray at time t sees each moving vertex linearly
 //! interpolated between the two steps around t (Cycles' motion triangles); the tracer's BVH

@@ -276,7 +276,7 @@ pub(super) fn convert(
         } else {
             Vec3::from(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0)
         },
-        // A one-sided emitter must stay one-sided (docs/design.md §3.9: a two-sided Cornell light
+        // A one-sided emitter must stay one-sided (docs/design/tracer.md §3.9: a two-sided Cornell light
         // is too bright), so emission follows `doubleSided`.
         emission_two_sided: m.double_sided(),
         alpha,

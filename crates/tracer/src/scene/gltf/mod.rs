@@ -12,7 +12,7 @@
 //! Every malformed input is a [`TracerError`] naming the file, never a panic; an image that cannot
 //! be used is a warning (the material slot is left empty).
 //!
-//! Light units (docs/design.md §3.9, §3.10): point and spot intensities are candela,
+//! Light units (docs/design/tracer.md §3.9, §3.10): point and spot intensities are candela,
 //! converted to radiant intensity as W/sr = cd / 683; a directional light's lux become irradiance
 //! as W/m² = lux / 683, the same photometric conversion (an ideal 555 nm source). Blender's
 //! exporter (default lighting mode) writes exactly the inverse: W/(4π) × 683 cd for point and
