@@ -41,11 +41,11 @@ use super::rig::{
     Influences, LightKind, MorphTarget, Pose, Primitive, Rig, RigCamera, RigLight, RigNode, Skin,
 };
 use super::{GltfReading, Scene, SceneAnimation, SpotFalloff};
-pub(crate) use material::apply_reading;
 use crate::camera::Projection;
 use crate::error::{Result, TracerError};
 use glam::{Affine3A, Mat4, Quat, Vec3};
 use gltf::mesh::{Mode, Semantic};
+pub(crate) use material::apply_reading;
 use std::ops::Range;
 use std::path::Path;
 use std::sync::Arc;
