@@ -60,7 +60,8 @@ pub struct QualityArgs {
     pub exposure: f32,
     /// How to read a glTF file where Blender's importer and the specification differ, overriding
     /// the loader's choice (Blender's for files Blender wrote, the specification's otherwise):
-    /// docs/cycles.md lists the differences. The spot falloff follows it unless given.
+    /// docs/cycles.md lists the differences. Spot falloff (unless --spot-falloff is given) and
+    /// KHR_materials_volume's absorption and thin walls follow it.
     #[arg(long, value_enum)]
     pub gltf_reading: Option<ReadingArg>,
     /// Spot-light falloff, overriding the reading's (Blender's for Blender-made files).

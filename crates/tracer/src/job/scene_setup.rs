@@ -285,6 +285,30 @@ mod tests {
         assert_eq!(GltfReading::of_generator("COLLADA2GLTF"), GltfReading::Spec);
     }
 
+    /// `--gltf-reading` re-reads a material's KHR_materials_volume, not only the spot falloff:
+    /// thickness 0 is a thin wall by the specification alone, and the absorption follows the
+    /// reading's formula (−ln c / d by the specification, (1 − c) / d in Blender's).
+    #[test]
+    fn a_reading_rereads_the_volumes() {
+        let volume =
+            crate::material::Volume { thickness: 0.0, colour: Vec3::new(0.9, 0.5, 0.25), distance: 2.0 };
+        let glass = crate::material::Material {
+            transmission: 1.0,
+            volume: Some(volume),
+            ..crate::material::Material::default()
+        };
+        let mut scene = Scene { materials: vec![glass], ..Scene::default() };
+        for reading in [GltfReading::Spec, GltfReading::Blender, GltfReading::Spec] {
+            SceneSetup { reading: Some(reading), ..SceneSetup::default() }.apply(&mut scene).unwrap();
+            let m = &scene.materials[0];
+            let (thin, sigma) = match reading {
+                GltfReading::Spec => (true, -volume.colour.map(f32::ln) / 2.0),
+                GltfReading::Blender => (false, (Vec3::ONE - volume.colour) / 2.0),
+            };
+            assert_eq!((m.thin_walled, m.attenuation), (thin, sigma), "{reading:?}");
+        }
+    }
+
     /// A model with nothing that gives light renders black: loading it says so, naming the file
     /// and the ways to light it; a sky lights it (as an importance-sampled environment).
     #[test]

@@ -8,12 +8,13 @@
 //! - `KHR_materials_volume`: a transmissive material with `thicknessFactor` > 0 bounds a solid
 //!   whose medium absorbs by Beer–Lambert ([`Material::attenuation`]); the thickness texture is
 //!   a rasteriser's stand-in for the distance a path tracer measures through the mesh, so it is
-//!   read for nothing. Two readings ([`GltfReading`], applied by [`apply_reading`]): the specification's, where thickness 0
+//!   read for nothing. Two readings ([`GltfReading`], applied by [`apply_reading`] at load and
+//!   again when `--gltf-reading` overrides the file's): the specification's, where thickness 0
 //!   is a thin wall and σa = −ln(colour) / distance, and Blender's importer's, where every
 //!   transmissive surface bounds a refracting solid and the colour and 1 / distance become a
 //!   Volume Absorption node (Cycles: σa = (1 − colour) / distance). Transmission without the
-//!   extension is a solid in both for now (the specification's thin wall there waits for the
-//!   reading flag: it would change the café's glass).
+//!   extension is a solid in both: the specification's thin wall there is not implemented (it
+//!   would change the glass of every file not from Blender, the café's among them).
 //! - Occlusion textures are ignored without a word: a path tracer computes occlusion itself.
 //! - `KHR_materials_specular` and `KHR_materials_transmission` textures multiply their factors.
 //! - `KHR_materials_ior` also sets the dielectric F0 of the opaque lobes, as the extension

@@ -387,7 +387,7 @@ fn scene_gltf_volume_in_both_readings() {
     for (generator, blender) in [("Khronos glTF Blender I/O v4.2", true), ("Adobe Dimension", false)] {
         let scene = load_json(&dir, "volume.gltf", &doc(generator)).unwrap();
         let m = |name: &str| scene.materials.iter().find(|m| m.name == name).unwrap();
-        // Without the extension: a solid in both readings until the reading flag lands.
+        // Without the extension: a solid in both readings (the spec's thin wall is not implemented).
         assert!(!m("clear").thin_walled, "{generator}");
         assert_eq!(m("thin").thin_walled, !blender, "{generator}");
         assert!(!m("amber").thin_walled && m("amber").has_volume(), "{generator}");
