@@ -291,7 +291,7 @@ pub fn submit(scripts: &Scripts, sbatch: Option<&Path>) -> Result<Vec<Submitted>
             cmd.current_dir(dir);
         }
         let out =
-            cmd.arg(script).output().map_err(|e| fail(format!("cannot run {}: {e}", sbatch.display())))?;
+            output(cmd.arg(script)).map_err(|e| fail(format!("cannot run {}: {e}", sbatch.display())))?;
         let stdout = String::from_utf8_lossy(&out.stdout);
         if !out.status.success() {
             let said = String::from_utf8_lossy(&out.stderr);
@@ -317,6 +317,24 @@ pub fn submit(scripts: &Scripts, sbatch: Option<&Path>) -> Result<Vec<Submitted>
     Ok(done)
 }
 
+/// `cmd`'s output, retried while the program is "text file busy" (ETXTBSY): a program written
+/// just before it runs (a wrapper script, a test's stand-in) stays busy for as long as any
+/// process forked meanwhile by another thread still holds its write descriptor, until that
+/// child's exec closes it; Cargo retries its build scripts the same way.
+fn output(cmd: &mut Command) -> std::io::Result<std::process::Output> {
+    const ETXTBSY: i32 = 26;
+    let mut tries = 0;
+    loop {
+        match cmd.output() {
+            Err(e) if e.raw_os_error() == Some(ETXTBSY) && tries < 50 => {
+                tries += 1;
+                std::thread::sleep(std::time::Duration::from_millis(10));
+            }
+            result => return result,
+        }
+    }
+}
+
 /// The largest node of the cluster (or of `partition`) as `sinfo` (on PATH, or the program
 /// given) lists its nodes: the most CPUs and the most memory any node has.
 pub fn largest_node(partition: Option<&str>, sinfo: Option<&Path>) -> Result<NodeSize> {
@@ -329,7 +347,7 @@ pub fn largest_node(partition: Option<&str>, sinfo: Option<&Path>) -> Result<Nod
     if let Some(p) = partition {
         cmd.arg(format!("--partition={p}"));
     }
-    let out = cmd.output().map_err(|e| fail(format!("cannot run it: {e}")))?;
+    let out = output(&mut cmd).map_err(|e| fail(format!("cannot run it: {e}")))?;
     if !out.status.success() {
         return Err(fail(format!(
             "it exited with {}: {}",
