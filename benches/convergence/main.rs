@@ -1,4 +1,4 @@
-//! Error against time (`docs/performance.md` §1.3, "Peers"): the Cornell box against Mitsuba 3
+//! Error against time (`docs/performance.md` §1.5, "Peers"): the Cornell box against Mitsuba 3
 //! and Cycles (`cornell.rs`), the café against Cycles (`cafe.rs`).
 //!
 //! `cargo bench -p mcctrace-suite --bench convergence` runs both series;
