@@ -67,7 +67,7 @@ fn raw_and_denoised(
 /// The Cornell box (48²) and the café's wide view (64×36) at 4 spp: the denoised relMSE against
 /// the converged golden is under a fifth of the raw one's (measured 10.7× and 6.9× lower; at
 /// these tiny sizes the filter's own blur sets a floor near 0.005 on the Cornell box, so the
-/// gain shrinks as samples grow: 3.9× at 8 spp, 1.8× at 64; docs/performance.md).
+/// gain shrinks as samples grow).
 #[test]
 fn denoised_renders_are_far_closer_to_the_golden() {
     let Some(d) = denoiser() else { return };
