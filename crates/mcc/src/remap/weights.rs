@@ -13,6 +13,7 @@
 //! whose nearest edge pixels are other pixels, but the function is public) is handled exactly:
 //! one camera at distance 0 takes α = 1, the limit of the formula; several share equally.
 
+use super::grid::Layout;
 use super::nearest::NearestEdges;
 use super::warning::RemapWarning;
 use crate::lanes::avx2_twins;
@@ -216,19 +217,19 @@ avx2_twins! {
     ) => weights_row_body
 }
 
-/// The initial weight planes (one per camera index, f32): rows in parallel, every plane's row
-/// written by the task that owns the row.
+/// The initial weight planes (one per camera of `layout`, f32) from the `nearest` edge pixels
+/// and each region's `participants` (`region`: the region of every pixel): rows in parallel,
+/// every plane's row written by the task that owns the row.
 pub(crate) fn initial_weights(
-    cam: &[u32],
+    layout: &Layout,
     region: &[u32],
     nearest: &NearestEdges,
     participants: &[Vec<usize>],
-    cameras: usize,
-    width: usize,
 ) -> Vec<Vec<f32>> {
+    let Layout { grid, cam, cameras, .. } = *layout;
     let mut planes: Vec<Vec<f32>> = (0..cameras).map(|_| vec![0f32; cam.len()]).collect();
-    let rows = super::planes::rows_mut(&mut planes, width);
-    let inputs = Inputs { cam, region, nearest, participants, width };
+    let rows = grid.rows_mut(&mut planes);
+    let inputs = Inputs { cam, region, nearest, participants, width: grid.width };
     rows.into_par_iter().enumerate().for_each_init(RowScratch::default, |scratch, (y, mut row)| {
         weights_row(y, &mut row, scratch, inputs);
     });
@@ -279,7 +280,10 @@ mod tests {
                 })
                 .collect();
             let nearest = NearestEdges { planes, participates: Vec::new() };
-            let got = initial_weights(&cam, &region, &nearest, &participants, cameras, w);
+            let grid = crate::remap::grid::Grid::new(w, h);
+            let edges = crate::remap::edges::edge_mask(&cam, grid);
+            let layout = Layout { grid, cam: &cam, edges: &edges, cameras };
+            let got = initial_weights(&layout, &region, &nearest, &participants);
             for p in 0..n {
                 let mut want = vec![0f32; cameras];
                 if cam[p] != 0 {
