@@ -239,17 +239,7 @@ pub(crate) fn initial_weights(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// The formula as written, in f64 (fine for few cameras).
-    fn literal(d: &[f64]) -> Vec<f64> {
-        let total: f64 = d.iter().sum();
-        let g: Vec<f64> = d.iter().map(|x| x / total).collect();
-        let v: Vec<f64> = (0..d.len())
-            .map(|i| (1.0 - g[i]) * (0..d.len()).filter(|&j| j != i).map(|j| g[j]).product::<f64>())
-            .collect();
-        let sum: f64 = v.iter().sum();
-        v.iter().map(|x| x / sum).collect()
-    }
+    use crate::test_util::weights_by_product;
 
     /// The lanes against [`interpolation_weights`] pixel by pixel, bit for bit: random regions
     /// (chunks across regions), one to six participants, and nearest pixels at distance 0.
@@ -329,7 +319,7 @@ mod tests {
             let d: Vec<f64> = (0..n).map(|_| 1.0 + rng.unit() as f64 * 100.0).collect();
             let mut a = vec![0.0; n];
             interpolation_weights(&d, &mut a);
-            for (x, y) in a.iter().zip(literal(&d)) {
+            for (x, y) in a.iter().zip(weights_by_product(&d)) {
                 assert!((x - y).abs() < 1e-12, "{a:?}");
             }
         }
@@ -364,6 +354,10 @@ mod tests {
             let nearest = (0..n).min_by(|&i, &j| d[i].total_cmp(&d[j])).unwrap();
             assert!(a.iter().all(|&x| x <= a[nearest]));
         }
-        assert!(literal(&(0..5000).map(|i| 1.0 + i as f64).collect::<Vec<_>>()).iter().any(|x| x.is_nan()));
+        assert!(
+            weights_by_product(&(0..5000).map(|i| 1.0 + i as f64).collect::<Vec<_>>())
+                .iter()
+                .any(|x| x.is_nan())
+        );
     }
 }
