@@ -19,6 +19,7 @@ use glam::{DVec3, Vec3};
 use mcc::remap::burp::burp;
 use mcc::remap::weights::interpolation_weights;
 use mcc::slerp::slerp;
+use mcc::test_util::{view, weights_by_product};
 use mcc::{Collage, RayFile, Regions, RemapConfig, StoredRay, remap};
 use std::collections::BTreeMap;
 
@@ -220,18 +221,6 @@ fn burp_of_random_direction_sets() {
     assert_eq!(burp(&[Vec3::X, Vec3::Y], &[0.0, f32::NAN]), None);
 }
 
-/// docs/design/mcc.md §5.3 as written: v_i = (1 − g_i)·Π_{j≠i} g_j, α_i = v_i / Σ v_j (no underflow for
-/// 63 cameras in f64: the products stay above ~1e-200 for the distances used here).
-fn weights_by_product(d: &[f64]) -> Vec<f64> {
-    let total: f64 = d.iter().sum();
-    let g: Vec<f64> = d.iter().map(|x| x / total).collect();
-    let v: Vec<f64> = (0..d.len())
-        .map(|i| (1.0 - g[i]) * (0..d.len()).filter(|&j| j != i).map(|j| g[j]).product::<f64>())
-        .collect();
-    let sum: f64 = v.iter().sum();
-    v.iter().map(|x| x / sum).collect()
-}
-
 #[test]
 fn weights_of_63_cameras() {
     let mut rng = Rng(3);
@@ -261,21 +250,8 @@ fn weights_of_63_cameras() {
     assert!(alpha.iter().enumerate().all(|(i, &a)| a == if i == 7 || i == 40 { 0.5 } else { 0.0 }));
 }
 
-/// A view: camera `id` at its own place; odd and even cameras look opposite ways (eye rays of
-/// cameras facing each other, the nearly opposite case slerp must survive).
-fn view(id: u32, w: u32, h: u32) -> RayFile {
-    let eye = Vec3::new(id as f32, -(id as f32) * 0.5, 2.0 * id as f32);
-    let forward = if id.is_multiple_of(2) { Vec3::Z } else { -Vec3::Z };
-    let rays = (0..w * h)
-        .map(|p| {
-            let (x, y) = ((p % w) as f32 + 0.5, (p / w) as f32 + 0.5);
-            let d = forward + Vec3::new(x / w as f32 - 0.5, 0.5 - y / h as f32, 0.0) * 0.8;
-            StoredRay::new(eye, d.normalize())
-        })
-        .collect();
-    RayFile::new(w, h, 0, id, rays).unwrap()
-}
-
+/// The views of `ids` ([`view`]: odd and even cameras look opposite ways, the nearly opposite
+/// eye rays slerp must survive).
 fn views(ids: impl IntoIterator<Item = u32>, w: u32, h: u32) -> BTreeMap<u32, RayFile> {
     ids.into_iter().map(|id| (id, view(id, w, h))).collect()
 }

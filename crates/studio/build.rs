@@ -1,4 +1,4 @@
-//! Embeds every file of `assets/` (the page: `index.html`, `studio.js`, `studio.css`, …) in the
+//! Embeds every file of `assets/` (the page: `index.html`, its modules, `studio.css`, …) in the
 //! binary: writes `assets.rs`, a table of (name, bytes) that `src/server/mod.rs` includes, so
 //! the page needs no build step and no file is read at run time (docs/studio.md, "Server").
 

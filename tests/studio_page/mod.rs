@@ -183,7 +183,7 @@ async fn move_camera(b: &Browser, lay: &Layout, camera: u32) {
         .wait_for(
             "the camera's new pose",
             &format!(
-                "const e = (() => {{ {pose} }})(); return window.studio.cameraIds.size === 0 && JSON.stringify(e) !== JSON.stringify({eye}) && e;"
+                "const e = (() => {{ {pose} }})(); return window.studio.cameraEdits === 0 && JSON.stringify(e) !== JSON.stringify({eye}) && e;"
             ),
             lay.patience,
         )
@@ -316,7 +316,8 @@ fn paint_two_cameras_preview_save_and_render_final() {
     let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build().expect("tokio runtime");
     runtime.block_on(async {
         let b = Browser::start(&chromium, &chromedriver, &scratch.path("profile"), lay.window).await;
-        b.client.goto(&studio.url).await.expect("open the studio page");
+        // `probe`: the page loads its read-out for the test (`window.studio`, probe.js).
+        b.client.goto(&format!("{}&probe", studio.url)).await.expect("open the studio page");
         let thumbs = "return window.studio && window.studio.sources.filter(Boolean).length >= 2";
         b.wait_for("both cameras' thumbnails", thumbs, patience).await;
         first_page_shows_the_views_and_says_what_to_do(&b, &lay, patience).await;

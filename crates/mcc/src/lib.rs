@@ -22,8 +22,12 @@ pub mod slerp;
 pub mod stray;
 pub mod tag;
 
-#[cfg(test)]
-mod test_util;
+// The crate's test helpers; the workspace's tests reach them (the oracles) through the
+// `test-support` feature, which `mcctrace` never builds. Test-only API: its small helpers carry
+// no doc lines of their own.
+#[cfg(any(test, feature = "test-support"))]
+#[allow(missing_docs)]
+pub mod test_util;
 
 /// The `image` crate this one's API uses (tagging, composing, debug pictures), re-exported so
 /// callers name the same types.

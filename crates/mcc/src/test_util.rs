@@ -88,3 +88,17 @@ pub fn forward_camera(res: glam::UVec2) -> Box<dyn tracer::camera::Camera> {
         .build(res)
         .unwrap()
 }
+
+/// Step 3's weights by the product formula of docs/design/mcc.md §5.3 as written, in f64:
+/// g_i = d_i / Σ d, v_i = (1 − g_i)·Π_{j≠i} g_j, α_i = v_i / Σ v. The oracle of
+/// [`crate::remap::weights::interpolation_weights`], which avoids the product: it underflows
+/// (to 0/0, NaN) for a few thousand cameras, but not for 63 at the distances the tests use.
+pub fn weights_by_product(d: &[f64]) -> Vec<f64> {
+    let total: f64 = d.iter().sum();
+    let g: Vec<f64> = d.iter().map(|x| x / total).collect();
+    let v: Vec<f64> = (0..d.len())
+        .map(|i| (1.0 - g[i]) * (0..d.len()).filter(|&j| j != i).map(|j| g[j]).product::<f64>())
+        .collect();
+    let sum: f64 = v.iter().sum();
+    v.iter().map(|x| x / sum).collect()
+}

@@ -6,6 +6,7 @@
 //! Each step is the accurate [`crate::slerp::slerp`], so nearly opposite eye rays stay exact
 //! and no step yields NaN; α_k / β_k ≤ 1 because β_k ≥ α_k.
 
+use super::grid::Layout;
 use super::nearest::NearestEdges;
 use crate::lanes::{avx2_twins, select, select3};
 use crate::ray_file::StoredRay;
@@ -197,25 +198,24 @@ avx2_twins! {
     ) => burp_row_body
 }
 
-/// The remapped rays of every pixel, and (when `dominant` is asked for) the camera index with
-/// the largest weight per pixel (ties to the smallest id). Rows run in parallel; each pixel's
-/// result depends only on its own inputs, and its lane computes the scalar chain's bits
-/// (the same as [`burp`] of its directions and weights), so neither the thread count, the
-/// pixel's place in its chunk nor the CPU's vector width changes a bit.
+/// The remapped rays of every pixel of `layout` from the merged `sources`, the `nearest` edge
+/// pixels and the weight `planes`. Rows run in parallel; each pixel's result depends only on its
+/// own inputs, and its lane computes the scalar chain's bits (the same as [`burp`] of its
+/// directions and weights), so neither the thread count, the pixel's place in its chunk nor the
+/// CPU's vector width changes a bit.
 pub(crate) fn remapped_rays(
-    cam: &[u32],
+    layout: &Layout,
     sources: &[StoredRay],
     nearest: &NearestEdges,
     planes: &[Vec<f32>],
-    width: usize,
-    dominant: bool,
-) -> (Vec<StoredRay>, Option<Vec<u32>>) {
+) -> Vec<StoredRay> {
+    let cam = layout.cam;
     let mut rays = vec![StoredRay::default(); cam.len()];
     let inputs = Inputs { cam, sources, nearest, planes };
-    rays.par_chunks_mut(width).enumerate().for_each_init(Columns::new, |columns, (y, row)| {
+    rays.par_chunks_mut(layout.grid.width).enumerate().for_each_init(Columns::new, |columns, (y, row)| {
         burp_row(y, row, columns, inputs);
     });
-    (rays, dominant.then(|| self::dominant(cam, planes)))
+    rays
 }
 
 /// The camera index with the largest weight at every pixel (ties to the smallest id; a camera
@@ -335,7 +335,10 @@ mod tests {
             .collect();
         let nearest = NearestEdges { planes: edges, participates: Vec::new() };
         let bits = |r: &StoredRay| bytemuck::cast::<_, [u32; 6]>(*r);
-        let (rays, _) = remapped_rays(&cam, &sources, &nearest, &planes, w, false);
+        let grid = crate::remap::grid::Grid::new(w, h);
+        let edges = crate::remap::edges::edge_mask(&cam, grid);
+        let layout = Layout { grid, cam: &cam, edges: &edges, cameras };
+        let rays = remapped_rays(&layout, &sources, &nearest, &planes);
         let mut baseline = vec![StoredRay::default(); n];
         let mut columns = Columns::new();
         for (y, row) in baseline.chunks_mut(w).enumerate() {

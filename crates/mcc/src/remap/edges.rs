@@ -2,11 +2,13 @@
 //! c* if it lies on the outermost border of the image or if any of its 8 neighbours has another
 //! camera (a background neighbour included). Background pixels are never edges.
 
+use super::grid::Grid;
 use rayon::prelude::*;
 
 /// The edge mask of a dense camera plane (`cam[p]` = 0 for background, k + 1 for camera index k):
 /// `true` at edge pixels. Rows are independent, so they run in parallel.
-pub(crate) fn edge_mask(cam: &[u32], width: usize, height: usize) -> Vec<bool> {
+pub(crate) fn edge_mask(cam: &[u32], grid: Grid) -> Vec<bool> {
+    let Grid { width, height } = grid;
     let mut edges = vec![false; cam.len()];
     edges.par_chunks_mut(width).enumerate().for_each(|(y, row)| {
         let here = &cam[y * width..(y + 1) * width];
@@ -67,7 +69,7 @@ mod tests {
             // Blocky content so that interiors exist.
             let cam: Vec<u32> =
                 (0..w * h).map(|p| ((p % w / 3 + p / w / 3) as u32 * 7 + cams) % (cams + 1)).collect();
-            assert_eq!(edge_mask(&cam, w, h), brute(&cam, w, h), "{w}x{h}");
+            assert_eq!(edge_mask(&cam, Grid::new(w, h)), brute(&cam, w, h), "{w}x{h}");
         }
     }
 
@@ -75,7 +77,7 @@ mod tests {
     fn the_column_figure_5_cases() {
         // 5 × 4: camera 1 fills the left 3 columns, camera 2 column 3, background column 4.
         let cam: Vec<u32> = (0..20).map(|p| [1, 1, 1, 2, 0][p % 5]).collect();
-        let e = edge_mask(&cam, 5, 4);
+        let e = edge_mask(&cam, Grid::new(5, 4));
         assert!(e[0], "camera pixel on the border");
         assert!(!e[5 + 1], "interior camera pixel");
         assert!(e[5 + 2], "beside another camera");

@@ -8,7 +8,8 @@
 //! without the cancellation that averaging unit vectors suffers. Origins are interpolated as
 //! points, and not at all when every edge ray shares one origin (pinholes).
 
-use super::membrane::{Membrane, prolong, relax};
+use super::grid::{Grid, Layout};
+use super::membrane::{Free, Membrane, prolong, relax};
 use crate::ray_file::StoredRay;
 use crate::slerp::angle_between;
 use glam::{DVec3, Vec3};
@@ -98,8 +99,7 @@ impl CameraField {
 /// Each field is solved on the grid of 2 × 2 blocks, interpolated bilinearly and relaxed on the
 /// pixels (docs/design/mcc.md §5.8).
 pub(crate) struct FieldSolvers {
-    width: usize,
-    height: usize,
+    grid: Grid,
     directions: Membrane<2>,
     origins: Membrane<3>,
     /// Blocks holding a pixel of the camera (the coarse membrane's fixed cells).
@@ -109,35 +109,30 @@ pub(crate) struct FieldSolvers {
 }
 
 impl FieldSolvers {
-    /// Solvers for `width × height` pictures.
-    pub(crate) fn new(width: usize, height: usize) -> Self {
-        let (cw, ch) = (width.div_ceil(2), height.div_ceil(2));
-        let (directions, origins) = (Membrane::new(cw, ch), Membrane::new(cw, ch));
-        Self { width, height, directions, origins, fixed: Vec::new(), spans: Vec::new() }
+    /// Solvers for pictures on `grid`.
+    pub(crate) fn new(grid: Grid) -> Self {
+        let (directions, origins) = (Membrane::new(grid.blocks()), Membrane::new(grid.blocks()));
+        Self { grid, directions, origins, fixed: Vec::new(), spans: Vec::new() }
     }
 
-    /// The field of camera `c` (its pixels are those with `cam[p] == c`; `edges` marks its edge
-    /// pixels): the membrane of its edge rays over every pixel that is not its own. Rows run in
-    /// parallel; the result does not depend on the thread count.
-    pub(crate) fn field(
-        &mut self,
-        cam: &[u32],
-        c: u32,
-        edges: &[bool],
-        sources: &[StoredRay],
-    ) -> CameraField {
+    /// The field of camera `c` of `layout` (its pixels are those with `cam[p] == c`) from the
+    /// merged `sources`: the membrane of its edge rays over every pixel that is not its own. Rows
+    /// run in parallel; the result does not depend on the thread count.
+    pub(crate) fn field(&mut self, layout: &Layout, c: u32, sources: &[StoredRay]) -> CameraField {
+        let Layout { cam, edges, .. } = *layout;
+        debug_assert_eq!(layout.grid, self.grid);
         let n = cam.len();
         let edge = |p: usize| cam[p] == c && edges[p];
         let frame = TangentFrame::around((0..n).filter(|&p| edge(p)).map(|p| sources[p].direction));
-        let (w, h) = (self.width, self.height);
-        let (cw, ch) = (w.div_ceil(2), h.div_ceil(2));
+        let grid = self.grid;
+        let blocks = grid.blocks();
         self.fixed.clear();
-        self.fixed.par_extend((0..cw * ch).into_par_iter().map(|b| block(b, cw, w, h).any(|p| cam[p] == c)));
-        relax_spans(&self.fixed, (cw, ch), (w, h), &mut self.spans);
-        let size = (w, h);
+        self.fixed.par_extend((0..blocks.len()).into_par_iter().map(|b| block(b, grid).any(|p| cam[p] == c)));
+        relax_spans(&self.fixed, grid, &mut self.spans);
+        let on = Blocks { grid, fixed: &self.fixed, spans: &self.spans };
         let own = |p: usize| cam[p] == c;
         let log = |p: usize| (cam[p] == c).then(|| frame.log(sources[p].direction));
-        let tangent = block_field(&mut self.directions, &self.fixed, &self.spans, size, own, edge, log);
+        let tangent = block_field(&mut self.directions, on, own, edge, log);
         // Origins: one shared point (bit for bit) needs no membrane.
         let mut edge_origins = (0..n).filter(|&p| edge(p)).map(|p| sources[p].origin);
         let origin = edge_origins.next().unwrap_or(Vec3::ZERO);
@@ -146,20 +141,17 @@ impl FieldSolvers {
             return CameraField { frame, tangent, origins: None, origin };
         }
         let point = |p: usize| (cam[p] == c).then(|| sources[p].origin.to_array());
-        let points = block_field(&mut self.origins, &self.fixed, &self.spans, size, own, edge, point);
+        let on = Blocks { grid, fixed: &self.fixed, spans: &self.spans };
+        let points = block_field(&mut self.origins, on, own, edge, point);
         CameraField { frame, tangent, origins: Some(points), origin }
     }
 }
 
-/// Per pixel row, the pixels within [`RELAX_REACH`] (along rows and columns) of a block with
-/// a pixel of the camera (`fixed`, a `cw × ch` grid over `w × h`), as one range: the extent of
+/// Per pixel row of `grid`, the pixels within [`RELAX_REACH`] (along rows and columns) of a
+/// block with a pixel of the camera (`fixed`, on the grid's blocks), as one range: the extent of
 /// those blocks in the nearby rows, widened by the reach.
-fn relax_spans(
-    fixed: &[bool],
-    (cw, ch): (usize, usize),
-    (w, h): (usize, usize),
-    spans: &mut Vec<Range<usize>>,
-) {
+fn relax_spans(fixed: &[bool], grid: Grid, spans: &mut Vec<Range<usize>>) {
+    let (Grid { width: w, height: h }, Grid { width: cw, height: ch }) = (grid, grid.blocks());
     // Per block row, the first and last fixed block.
     let extents: Vec<Option<(usize, usize)>> = fixed
         .chunks(cw)
@@ -176,8 +168,9 @@ fn relax_spans(
     }));
 }
 
-/// The pixels of block `b` of a `w × h` picture (`cw` blocks wide).
-fn block(b: usize, cw: usize, w: usize, h: usize) -> impl Iterator<Item = usize> {
+/// The pixels of block `b` of `grid` (an index on its blocks).
+fn block(b: usize, grid: Grid) -> impl Iterator<Item = usize> {
+    let (Grid { width: w, height: h }, cw) = (grid, grid.blocks().width);
     let (x0, y0) = (2 * (b % cw), 2 * (b / cw));
     (y0..(y0 + 2).min(h)).flat_map(move |y| (x0..(x0 + 2).min(w)).map(move |x| y * w + x))
 }
@@ -186,20 +179,20 @@ fn block(b: usize, cw: usize, w: usize, h: usize) -> impl Iterator<Item = usize>
 /// on one line, the gradient across it is unknown and taken as 0 (the mean along the line).
 const RIDGE: f64 = 1e-3;
 
-/// The field at the centre of block `b` (a `cw`-wide grid over `w × h`), from the camera's
+/// The field at the centre of block `b` of `grid`, from the camera's
 /// pixels (`value` is `Some` at them): their mean when the block is all the camera's, else the
 /// least-squares plane through those of the 4 × 4 pixels around the block, at its centre. A
 /// coarse cell's value stands for its centre: the mean of a partial block's pixels would
 /// misplace the camera's border by up to a pixel, and the membrane with it (docs/design/mcc.md §5.8).
 fn centre_value<const K: usize>(
     b: usize,
-    cw: usize,
-    (w, h): (usize, usize),
+    grid: Grid,
     value: &impl Fn(usize) -> Option<[f32; K]>,
 ) -> [f32; K] {
+    let (Grid { width: w, height: h }, cw) = (grid, grid.blocks().width);
     let (x0, y0) = (2 * (b % cw), 2 * (b / cw));
     let (mut sum, mut count) = ([0.0f32; K], 0);
-    for v in block(b, cw, w, h).filter_map(value) {
+    for v in block(b, grid).filter_map(value) {
         (0..K).for_each(|k| sum[k] += v[k]);
         count += 1;
     }
@@ -248,32 +241,33 @@ fn centre_value<const K: usize>(
 /// that a free block or a free pixel's interpolation touches has one (edges are 8-connected).
 fn block_field<const K: usize>(
     membrane: &mut Membrane<K>,
-    fixed: &[bool],
-    spans: &[Range<usize>],
-    (w, h): (usize, usize),
+    on: Blocks,
     own: impl Fn(usize) -> bool + Sync,
     edge: impl Fn(usize) -> bool + Sync,
     value: impl Fn(usize) -> Option<[f32; K]> + Sync,
 ) -> Vec<[f32; K]> {
-    let (cw, ch) = (w.div_ceil(2), h.div_ceil(2));
-    let mut coarse: Vec<[f32; K]> = (0..cw * ch)
+    let Blocks { grid, fixed, spans } = on;
+    let mut coarse: Vec<[f32; K]> = (0..grid.blocks().len())
         .into_par_iter()
-        .map(|b| {
-            if fixed[b] && block(b, cw, w, h).any(&edge) {
-                centre_value(b, cw, (w, h), &value)
-            } else {
-                [0.0; K]
-            }
-        })
+        .map(|b| if fixed[b] && block(b, grid).any(&edge) { centre_value(b, grid, &value) } else { [0.0; K] })
         .collect();
     membrane.solve(|b| fixed[b], &mut coarse, TOLERANCE, MAX_ITERATIONS);
-    let mut fine: Vec<[f32; K]> = (0..w * h)
+    let mut fine: Vec<[f32; K]> = (0..grid.len())
         .into_par_iter()
         .map(|p| if edge(p) { value(p).unwrap_or([0.0; K]) } else { [0.0; K] })
         .collect();
-    prolong(&coarse, (cw, ch), |_| true, &mut fine, (w, h), |p| !own(p), false);
-    relax(&mut fine, own, spans, w, h, RELAX_SWEEPS);
+    prolong::<K, false>(&coarse, |_| true, &mut fine, grid, |p| !own(p));
+    relax(&mut fine, Free { fixed: own, span: |y: usize| spans[y].clone() }, grid, RELAX_SWEEPS);
     fine
+}
+
+/// A camera's blocks on a picture's `grid`: which hold a pixel of the camera (`fixed`, one per
+/// block) and, per pixel row, the pixels the relaxing sweeps visit (`spans`).
+#[derive(Clone, Copy)]
+struct Blocks<'a> {
+    grid: Grid,
+    fixed: &'a [bool],
+    spans: &'a [Range<usize>],
 }
 
 #[cfg(test)]
@@ -326,8 +320,10 @@ mod tests {
                 (x * x + y * y > 100.0) as u32
             })
             .collect();
-        let edges = crate::remap::edges::edge_mask(&cam, w, h);
-        let field = FieldSolvers::new(w, h).field(&cam, 1, &edges, &sources);
+        let grid = Grid::new(w, h);
+        let edges = crate::remap::edges::edge_mask(&cam, grid);
+        let layout = Layout { grid, cam: &cam, edges: &edges, cameras: 1 };
+        let field = FieldSolvers::new(grid).field(&layout, 1, &sources);
         assert!(field.origins.is_none() && field.origin(0) == eye);
         let mut worst = 0.0f32;
         for p in (0..w * h).filter(|&p| cam[p] == 0) {
@@ -362,15 +358,17 @@ mod tests {
                 (inside(x, y, -55.0, -20.0, 17.0) || inside(x, y, -25.0, 30.0, 13.0) || ring) as u32
             })
             .collect();
-        let edges = crate::remap::edges::edge_mask(&cam, w, h);
-        let field = FieldSolvers::new(w, h).field(&cam, 1, &edges, &sources);
+        let grid = Grid::new(w, h);
+        let edges = crate::remap::edges::edge_mask(&cam, grid);
+        let layout = Layout { grid, cam: &cam, edges: &edges, cameras: 1 };
+        let field = FieldSolvers::new(grid).field(&layout, 1, &sources);
         let own = |p: usize| cam[p] == 1;
         let fine = |value: &dyn Fn(usize) -> Vec<f32>, k: usize| -> Vec<Vec<f32>> {
             (0..k)
                 .map(|ch| {
                     let mut u: Vec<[f32; 1]> =
                         (0..w * h).map(|p| [if own(p) { value(p)[ch] } else { 0.0 }]).collect();
-                    let solved = Membrane::<1>::new(w, h).solve(own, &mut u, 1e-5, 60);
+                    let solved = Membrane::<1>::new(Grid::new(w, h)).solve(own, &mut u, 1e-5, 60);
                     assert!(solved.relative_residual <= 1e-5, "{solved:?}");
                     u.iter().map(|v| v[0]).collect()
                 })

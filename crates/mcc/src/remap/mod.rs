@@ -25,9 +25,9 @@ pub mod burp;
 pub mod debug;
 pub(crate) mod edges;
 pub(crate) mod field;
+pub(crate) mod grid;
 pub(crate) mod membrane;
 pub(crate) mod nearest;
-pub(crate) mod planes;
 pub mod seam;
 pub(crate) mod seamless;
 pub(crate) mod smooth;
@@ -274,38 +274,32 @@ pub fn remap_sources(
             last.1
         })
         .collect();
-    let edges = edges::edge_mask(&cam, width, height);
-    let (rays, planes, dominant, warnings) = match config.blend {
+    let grid = grid::Grid::new(width, height);
+    let edges = edges::edge_mask(&cam, grid);
+    let layout = grid::Layout { grid, cam: &cam, edges: &edges, cameras: cameras.len() };
+    let (rays, planes, warnings) = match config.blend {
         Blend::Glassner => {
-            let boxes = nearest::RegionBoxes::new(&cam, &regions.index, regions.count(), width);
-            let nearest =
-                nearest::nearest_edges(&cam, &edges, &regions.index, &boxes, cameras.len(), width, height);
+            let boxes = nearest::RegionBoxes::new(&layout, &regions.index, regions.count());
+            let nearest = nearest::nearest_edges(&layout, &regions.index, &boxes);
             let (participants, warnings) =
                 weights::participants(&nearest.participates, regions, &boxes.background, cameras.len());
-            let mut planes =
-                weights::initial_weights(&cam, &regions.index, &nearest, &participants, cameras.len(), width);
+            let mut planes = weights::initial_weights(&layout, &regions.index, &nearest, &participants);
             let background: Vec<bool> = cam.iter().map(|&c| c == 0).collect();
-            let radii = (config.first_blur_radius as usize, config.second_blur_radius as usize);
-            smooth::smooth(
-                &mut planes,
-                &background,
-                width,
-                height,
-                radii,
-                smooth::Ease::new(config.ease_control),
-            );
+            let smoothing = smooth::Smoothing {
+                radii: (config.first_blur_radius as usize, config.second_blur_radius as usize),
+                ease: smooth::Ease::new(config.ease_control),
+            };
+            smooth::smooth(&mut planes, &background, grid, smoothing);
             drop(background);
-            let (rays, dominant) =
-                burp::remapped_rays(&cam, &sources.rays, &nearest, &planes, width, config.debug);
-            (rays, planes, dominant, warnings)
+            let rays = burp::remapped_rays(&layout, &sources.rays, &nearest, &planes);
+            (rays, planes, warnings)
         }
         Blend::Seamless => {
-            let blend =
-                seamless::seamless(&cam, &edges, &sources.rays, regions, cameras.len(), config.region_fade);
-            let dominant = config.debug.then(|| burp::dominant(&cam, &blend.weights));
-            (blend.rays, blend.weights, dominant, blend.warnings)
+            let blend = seamless::seamless(&layout, &sources.rays, regions, config.region_fade);
+            (blend.rays, blend.weights, blend.warnings)
         }
     };
+    let dominant = config.debug.then(|| burp::dominant(&cam, &planes));
     // Nothing to measure without background pixels or a pitch: no figures, not an error.
     let ratios =
         (config.debug || config.report).then(|| SeamRatios::measure(&rays, &cam, width).ok()).flatten();

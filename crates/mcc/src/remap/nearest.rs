@@ -18,6 +18,7 @@
 //! Cameras run in parallel; each result depends only on its inputs, so any thread count gives the
 //! same planes.
 
+use super::grid::{Grid, Layout};
 use rayon::prelude::*;
 
 /// "No pixel" in an index plane.
@@ -79,19 +80,25 @@ fn transpose(src: &[u32], w: usize, h: usize, dst: &mut [u32]) {
     }
 }
 
-/// The pixels a transform must fill: those with `pixel(p)`, all in the `columns` marked true
-/// (indexed by x).
+/// The features of a transform: pixel indices inside `rect`, in raster order.
+pub(crate) struct Features<'a> {
+    pub rect: Rect,
+    pub pixels: &'a [u32],
+}
+
+/// The pixels a transform must fill, and where: those with `pixel(p)`, all in the `columns`
+/// marked true (indexed by x), get their nearest feature in `out` (a plane of the grid).
 pub(crate) struct Query<'a, F> {
     pub pixel: F,
     pub columns: &'a [bool],
+    pub out: &'a mut [u32],
 }
 
-/// The exact nearest-feature transform over `rect` of an image `width` pixels wide: for every
-/// pixel p of `within` (a part of `rect`) with `query.pixel(p)`, `out[p]` becomes the index of the
-/// nearest of the `features` (pixel indices inside `rect`, in raster order), ties to the smallest
-/// y, then x. `out` is untouched elsewhere, and everywhere when there is no feature. A column x
-/// with `!query.columns[x]` must hold no pixel with `query.pixel(p)`: its column pass is
-/// skipped.
+/// The exact nearest-feature transform over `features.rect` of `grid`: for every pixel p of
+/// `within` (a part of that rectangle) with `query.pixel(p)`, `query.out[p]` becomes the index of
+/// the nearest of the features, ties to the smallest y, then x. `out` is untouched elsewhere, and
+/// everywhere when there is no feature. A column x with `!query.columns[x]` must hold no pixel
+/// with `query.pixel(p)`: its column pass is skipped.
 ///
 /// The row pass fills `within`'s columns of every row of `rect` from that row's features (the
 /// feature lists are short: edges are a perimeter); the column pass builds each envelope from all
@@ -99,15 +106,15 @@ pub(crate) struct Query<'a, F> {
 /// pass's result is transposed for the column pass, which writes `out` column by column (the rows
 /// it touches stay in cache from one column to the next).
 pub(crate) fn feature_transform(
-    width: usize,
-    rect: Rect,
+    grid: Grid,
+    features: Features,
     within: Rect,
-    features: &[u32],
     query: Query<impl Fn(usize) -> bool>,
-    out: &mut [u32],
     scratch: &mut Scratch,
 ) {
-    let Query { pixel: query, columns: wanted } = query;
+    let width = grid.width;
+    let Features { rect, pixels: features } = features;
+    let Query { pixel: query, columns: wanted, out } = query;
     let rh = rect.height();
     let (qw, qh) = (within.width(), within.height());
     if features.is_empty() || rect.width() == 0 || rh == 0 || qw == 0 || qh == 0 {
@@ -217,7 +224,9 @@ pub(crate) struct RegionBoxes {
 }
 
 impl RegionBoxes {
-    pub(crate) fn new(cam: &[u32], region: &[u32], count: usize, width: usize) -> Self {
+    /// The boxes of the `count` regions of the `region` plane on `layout`'s grid.
+    pub(crate) fn new(layout: &Layout, region: &[u32], count: usize) -> Self {
+        let (cam, width) = (layout.cam, layout.grid.width);
         let mut rects = vec![Rect { x0: usize::MAX, y0: usize::MAX, x1: 0, y1: 0 }; count];
         let mut background = vec![0; count];
         for (y, (regions, cams)) in region.chunks_exact(width).zip(cam.chunks_exact(width)).enumerate() {
@@ -234,16 +243,10 @@ impl RegionBoxes {
     }
 }
 
-/// Step 2 for all `cameras` cameras of the dense plane `cam` (0 background, k + 1 camera k).
-pub(crate) fn nearest_edges(
-    cam: &[u32],
-    edges: &[bool],
-    region: &[u32],
-    boxes: &RegionBoxes,
-    cameras: usize,
-    width: usize,
-    height: usize,
-) -> NearestEdges {
+/// Step 2 for every camera of `layout`, in the regions of the `region` plane (their `boxes`).
+pub(crate) fn nearest_edges(layout: &Layout, region: &[u32], boxes: &RegionBoxes) -> NearestEdges {
+    let Layout { grid, cam, edges, cameras } = *layout;
+    let Grid { width, height } = grid;
     let regions = boxes.rects.len();
     let mut participates = vec![vec![false; regions]; cameras];
     // Every camera's edge pixels in raster order (one pass over the image).
@@ -266,8 +269,8 @@ pub(crate) fn nearest_edges(
         let (part, all) = (&participates[k], &edge_lists[k]);
         if regions == 1 {
             // No region image: no region logic.
-            let query = Query { pixel: |p: usize| cam[p] == 0, columns: wanted };
-            feature_transform(width, whole, whole, all, query, &mut plane, scratch);
+            let query = Query { pixel: |p: usize| cam[p] == 0, columns: wanted, out: &mut plane };
+            feature_transform(grid, Features { rect: whole, pixels: all }, whole, query, scratch);
             return plane;
         }
         // Regions without an edge of c still need e_c(P) there: the nearest edge anywhere.
@@ -284,12 +287,14 @@ pub(crate) fn nearest_edges(
             let r = r as u32;
             in_region.clear();
             in_region.extend(all.iter().copied().filter(|&p| region[p as usize] == r));
-            let query = Query { pixel: |p: usize| cam[p] == 0 && region[p] == r, columns: wanted };
-            feature_transform(width, *rect, *rect, &in_region, query, &mut plane, scratch);
+            let query =
+                Query { pixel: |p: usize| cam[p] == 0 && region[p] == r, columns: wanted, out: &mut plane };
+            feature_transform(grid, Features { rect: *rect, pixels: &in_region }, *rect, query, scratch);
         }
         if let Some(within) = elsewhere {
-            let query = Query { pixel: |p: usize| cam[p] == 0 && !part[region[p] as usize], columns: wanted };
-            feature_transform(width, whole, within, all, query, &mut plane, scratch);
+            let pixel = |p: usize| cam[p] == 0 && !part[region[p] as usize];
+            let query = Query { pixel, columns: wanted, out: &mut plane };
+            feature_transform(grid, Features { rect: whole, pixels: all }, within, query, scratch);
         }
         plane
     };
@@ -342,10 +347,12 @@ mod tests {
         planes
     }
 
-    fn check(cam: &[u32], region: &[u32], regions: usize, cameras: usize, w: usize, h: usize) {
-        let edges = edge_mask(cam, w, h);
-        let boxes = RegionBoxes::new(cam, region, regions, w);
-        let got = nearest_edges(cam, &edges, region, &boxes, cameras, w, h);
+    fn check(cam: &[u32], region: &[u32], regions: usize, cameras: usize, grid: Grid) {
+        let (w, h) = (grid.width, grid.height);
+        let edges = edge_mask(cam, grid);
+        let layout = Layout { grid, cam, edges: &edges, cameras };
+        let boxes = RegionBoxes::new(&layout, region, regions);
+        let got = nearest_edges(&layout, region, &boxes);
         let want = brute(cam, &edges, region, cameras, w);
         for k in 0..cameras {
             for p in 0..cam.len() {
@@ -355,7 +362,7 @@ mod tests {
     }
 
     /// Random blobs of cameras on background, random blocky regions.
-    fn random_case(rng: &mut Rng) -> (Vec<u32>, Vec<u32>, usize, usize, usize, usize) {
+    fn random_case(rng: &mut Rng) -> (Vec<u32>, Vec<u32>, usize, usize, Grid) {
         let (w, h) = (1 + rng.below(40) as usize, 1 + rng.below(30) as usize);
         let cameras = 1 + rng.below(5) as usize;
         let mut cam = vec![0u32; w * h];
@@ -387,16 +394,16 @@ mod tests {
         used.sort();
         used.dedup();
         let region = region.iter().map(|r| used.binary_search(r).unwrap() as u32).collect();
-        (cam, region, used.len(), present.len(), w, h)
+        (cam, region, used.len(), present.len(), Grid::new(w, h))
     }
 
     #[test]
     fn equals_brute_force_on_random_collages_with_regions() {
         let mut rng = Rng::new(2024);
         for _ in 0..400 {
-            let (cam, region, regions, cameras, w, h) = random_case(&mut rng);
+            let (cam, region, regions, cameras, grid) = random_case(&mut rng);
             if cameras > 0 {
-                check(&cam, &region, regions, cameras, w, h);
+                check(&cam, &region, regions, cameras, grid);
             }
         }
     }
@@ -404,13 +411,13 @@ mod tests {
     #[test]
     fn degenerate_shapes() {
         // 1×1: a lone camera pixel (no background to fill).
-        check(&[1], &[0], 1, 1, 1, 1);
+        check(&[1], &[0], 1, 1, Grid::new(1, 1));
         // 1×N and N×1.
         let row: Vec<u32> = [0, 1, 0, 0, 2, 0, 0, 0, 1, 0].to_vec();
-        check(&row, &[0; 10], 1, 2, 10, 1);
-        check(&row, &[0; 10], 1, 2, 1, 10);
+        check(&row, &[0; 10], 1, 2, Grid::new(10, 1));
+        check(&row, &[0; 10], 1, 2, Grid::new(1, 10));
         let regions: Vec<u32> = [0, 0, 0, 1, 1, 1, 1, 0, 0, 0].to_vec();
-        check(&row, &regions, 2, 2, 10, 1);
+        check(&row, &regions, 2, 2, Grid::new(10, 1));
         // Camera pixels only on the border: a frame of camera 1 and a top bar of camera 2.
         let (w, h) = (17, 11);
         let cam: Vec<u32> = (0..w * h)
@@ -425,9 +432,9 @@ mod tests {
                 }
             })
             .collect();
-        check(&cam, &vec![0; w * h], 1, 2, w, h);
+        check(&cam, &vec![0; w * h], 1, 2, Grid::new(w, h));
         let diag: Vec<u32> = (0..w * h).map(|p| ((p % w) > (p / w)) as u32).collect();
-        check(&cam, &diag, 2, 2, w, h);
+        check(&cam, &diag, 2, 2, Grid::new(w, h));
     }
 
     #[test]
@@ -438,10 +445,12 @@ mod tests {
         for p in [2, 10, 14, 22] {
             cam[p] = 1;
         }
-        let edges = edge_mask(&cam, w, 5);
+        let grid = Grid::new(w, 5);
+        let edges = edge_mask(&cam, grid);
         let region = vec![0; 25];
-        let boxes = RegionBoxes::new(&cam, &region, 1, w);
-        let got = nearest_edges(&cam, &edges, &region, &boxes, 1, w, 5);
+        let layout = Layout { grid, cam: &cam, edges: &edges, cameras: 1 };
+        let boxes = RegionBoxes::new(&layout, &region, 1);
+        let got = nearest_edges(&layout, &region, &boxes);
         assert_eq!(got.planes[0][12], 2, "(2, 0): smallest row");
         // (1, 1) is √2 from (2, 0) and √2 from (0, 2): smallest row again.
         assert_eq!(got.planes[0][6], 2);

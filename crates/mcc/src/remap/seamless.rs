@@ -21,8 +21,9 @@
 //! pixel count.
 
 use super::field::FieldSolvers;
+use super::grid::{Grid, Layout};
 use super::nearest::{RegionBoxes, nearest_edges};
-use super::smooth::{Scratch, box_blur};
+use super::smooth::{Blur, Scratch, box_blur};
 use super::warning::RemapWarning;
 use crate::ray_file::StoredRay;
 use crate::regions::Regions;
@@ -37,24 +38,21 @@ pub(crate) struct SeamlessBlend {
     pub warnings: Vec<RemapWarning>,
 }
 
-/// The box radius of the participation fade for a `width × height` picture: three boxes of
-/// radius R fade over about 6R pixels, `fade` of the shorter side.
-pub(crate) fn fade_radius(fade: f32, width: usize, height: usize) -> usize {
-    ((fade * width.min(height) as f32 / 6.0).round() as usize).max(1)
+/// The box radius of the participation fade on `grid`: three boxes of radius R fade over about
+/// 6R pixels, `fade` of the shorter side.
+pub(crate) fn fade_radius(fade: f32, grid: Grid) -> usize {
+    ((fade * grid.width.min(grid.height) as f32 / 6.0).round() as usize).max(1)
 }
 
-/// The seamless blend of the dense camera plane `cam` (0 background, k + 1 camera index k) with
-/// its `edges`, the merged `sources` and the `regions`; `fade` is the participation fade's width
-/// as a fraction of the shorter side.
+/// The seamless blend of `layout` with the merged `sources` and the `regions`; `fade` is the
+/// participation fade's width as a fraction of the shorter side.
 pub(crate) fn seamless(
-    cam: &[u32],
-    edges: &[bool],
+    layout: &Layout,
     sources: &[StoredRay],
     regions: &Regions,
-    cameras: usize,
     fade: f32,
 ) -> SeamlessBlend {
-    let (width, height) = (regions.width as usize, regions.height as usize);
+    let Layout { grid, cam, edges, cameras } = *layout;
     let region = &regions.index;
     // Which cameras have an edge pixel in which region; regions no camera touches take all.
     let mut participates = vec![vec![false; regions.count()]; cameras];
@@ -76,29 +74,29 @@ pub(crate) fn seamless(
     let mut patterns: Vec<&Vec<bool>> = participates.iter().collect();
     patterns.sort();
     patterns.dedup();
-    let planes: Vec<Option<Vec<f32>>> = patterns
-        .par_iter()
-        .map(|pattern| fade_plane(pattern, &background, region, width, height, fade))
-        .collect();
+    let radius = fade_radius(fade, grid);
+    let planes: Vec<Option<Vec<f32>>> =
+        patterns.par_iter().map(|pattern| fade_plane(pattern, &background, region, grid, radius)).collect();
     let participation: Vec<Option<&[f32]>> = participates
         .iter()
         .map(|p| planes[patterns.binary_search(&p).expect("a pattern")].as_deref())
         .collect();
-    let weights = weight_planes(cam, edges, &participation, cameras, width, height);
+    let weights = weight_planes(layout, &participation);
     drop(planes);
-    let rays = blend(cam, edges, sources, &weights, width, height);
+    let rays = blend(layout, sources, &weights);
     SeamlessBlend { rays, weights, warnings }
 }
 
-/// The faded participation π of the cameras that take part in the regions `participates` marks,
-/// or `None` where that is every region with background (π = 1 throughout: nothing to fade).
+/// The faded participation π of the cameras that take part in the regions `participates` marks
+/// (`region`: every pixel's region; `background`: each region's background pixel count), three
+/// box blurs of `radius`; `None` where that is every region with background (π = 1 throughout:
+/// nothing to fade).
 fn fade_plane(
     participates: &[bool],
     background: &[usize],
     region: &[u32],
-    width: usize,
-    height: usize,
-    fade: f32,
+    grid: Grid,
+    radius: usize,
 ) -> Option<Vec<f32>> {
     if participates.iter().zip(background).all(|(&p, &b)| p || b == 0) {
         return None;
@@ -107,30 +105,25 @@ fn fade_plane(
     let mut other = vec![0f32; plane.len()];
     let everywhere = vec![true; plane.len()];
     let mut scratch = Scratch::default();
-    let radius = fade_radius(fade, width, height);
     for _ in 0..3 {
-        box_blur(&plane, &mut other, &everywhere, width, height, radius, &mut scratch);
+        box_blur(Blur { src: &plane, dst: &mut other, background: &everywhere, grid, radius }, &mut scratch);
         std::mem::swap(&mut plane, &mut other);
     }
     Some(plane)
 }
 
-/// The weight planes: 1 / 0 at camera pixels, α_k ∝ π_k / d_k² at background pixels.
-fn weight_planes(
-    cam: &[u32],
-    edges: &[bool],
-    participation: &[Option<&[f32]>],
-    cameras: usize,
-    width: usize,
-    height: usize,
-) -> Vec<Vec<f32>> {
+/// The weight planes: 1 / 0 at camera pixels, α_k ∝ π_k / d_k² at background pixels (π_k:
+/// camera k's `participation`, 1 throughout where `None`).
+fn weight_planes(layout: &Layout, participation: &[Option<&[f32]>]) -> Vec<Vec<f32>> {
+    let Layout { grid, cam, cameras, .. } = *layout;
+    let width = grid.width;
     // Distances to each camera's nearest edge pixel anywhere: one region, no region logic.
     let whole = vec![0u32; cam.len()];
-    let boxes = RegionBoxes::new(cam, &whole, 1, width);
-    let nearest = nearest_edges(cam, edges, &whole, &boxes, cameras, width, height);
+    let boxes = RegionBoxes::new(layout, &whole, 1);
+    let nearest = nearest_edges(layout, &whole, &boxes);
     drop(whole);
     let mut planes = vec![vec![0f32; cam.len()]; cameras];
-    let rows = super::planes::rows_mut(&mut planes, width);
+    let rows = grid.rows_mut(&mut planes);
     rows.into_par_iter().enumerate().for_each_init(
         || vec![0f64; cameras],
         |v, (y, mut row)| {
@@ -160,28 +153,22 @@ fn weight_planes(
     planes
 }
 
-/// Burp of the cameras' fields with the weights, from the highest camera index down (the
-/// column's order), one camera's field in memory at a time.
-fn blend(
-    cam: &[u32],
-    edges: &[bool],
-    sources: &[StoredRay],
-    weights: &[Vec<f32>],
-    width: usize,
-    height: usize,
-) -> Vec<StoredRay> {
+/// Burp of the cameras' fields (from the merged `sources`) with the `weights`, from the highest
+/// camera index down (the column's order), one camera's field in memory at a time.
+fn blend(layout: &Layout, sources: &[StoredRay], weights: &[Vec<f32>]) -> Vec<StoredRay> {
+    let cam = layout.cam;
     // Per background pixel: Σ α·origin, β = Σ α, and the burp so far.
     let mut origin = vec![Vec3::ZERO; cam.len()];
     let mut beta = vec![0f32; cam.len()];
     let mut direction: Vec<Option<Vec3>> = vec![None; cam.len()];
-    let mut solvers = FieldSolvers::new(width, height);
+    let mut solvers = FieldSolvers::new(layout.grid);
     for k in (0..weights.len()).rev() {
         let plane = &weights[k];
         let c = k as u32 + 1;
         if !cam.iter().zip(plane).any(|(&id, &a)| id == 0 && a > 0.0) {
             continue;
         }
-        let field = solvers.field(cam, c, edges, sources);
+        let field = solvers.field(layout, c, sources);
         origin.par_iter_mut().zip(beta.par_iter_mut()).zip(direction.par_iter_mut()).enumerate().for_each(
             |(p, ((o, b), d))| {
                 let a = plane[p];

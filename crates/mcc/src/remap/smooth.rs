@@ -19,6 +19,7 @@
 //! values leaves no drift worth the name; the clipped window is the product of its clipped row and
 //! column extents, which is the count to divide by.
 
+use super::grid::Grid;
 use crate::lanes::avx2_twins;
 use rayon::prelude::*;
 
@@ -75,32 +76,32 @@ pub(crate) struct Scratch {
 /// f64 additions instead of one keep the adder busy (each row's sum keeps its own order).
 const ROWS_AT_ONCE: usize = 4;
 
-/// Box blur of `src` into `dst` with window radius `radius`, dividing by the in-image window
-/// count, writing only where `background` is true (elsewhere `dst` gets `src`'s value).
-pub(crate) fn box_blur(
-    src: &[f32],
-    dst: &mut [f32],
-    background: &[bool],
-    width: usize,
-    height: usize,
-    radius: usize,
-    scratch: &mut Scratch,
-) {
-    if radius == 0 {
-        dst.copy_from_slice(src);
-        return;
-    }
-    box_blur_at_level(Blur { src, dst, background, width, height, radius }, scratch);
+/// The settings of step 4: the two blurs' radii and the ease between them.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Smoothing {
+    /// Radii of the first and the second box blur (0 skips one).
+    pub radii: (usize, usize),
+    /// The ease curve.
+    pub ease: Ease,
 }
 
-/// One blur's planes and sizes.
-struct Blur<'a> {
-    src: &'a [f32],
-    dst: &'a mut [f32],
-    background: &'a [bool],
-    width: usize,
-    height: usize,
-    radius: usize,
+/// One blur: planes of `grid`, from `src` into `dst` with window radius `radius`, writing only
+/// where `background` is true (elsewhere `dst` gets `src`'s value).
+pub(crate) struct Blur<'a> {
+    pub src: &'a [f32],
+    pub dst: &'a mut [f32],
+    pub background: &'a [bool],
+    pub grid: Grid,
+    pub radius: usize,
+}
+
+/// Box blur of `blur.src` into `blur.dst`, dividing by the in-image window count.
+pub(crate) fn box_blur(blur: Blur, scratch: &mut Scratch) {
+    if blur.radius == 0 {
+        blur.dst.copy_from_slice(blur.src);
+        return;
+    }
+    box_blur_at_level(blur, scratch);
 }
 
 avx2_twins! {
@@ -111,7 +112,7 @@ avx2_twins! {
 /// [`box_blur`] for a radius above 0.
 #[inline(always)]
 fn box_blur_body(blur: Blur, scratch: &mut Scratch) {
-    let Blur { src, dst, background, width, height, radius } = blur;
+    let Blur { src, dst, background, grid: Grid { width, height }, radius } = blur;
     let Scratch { rows, columns, inverse_x, prefix, .. } = scratch;
     rows.resize(src.len(), 0.0);
     // Horizontal: sum over [x − r, x + r] ∩ [0, w) as a difference of prefix sums (one serial
@@ -156,16 +157,22 @@ fn box_blur_body(blur: Blur, scratch: &mut Scratch) {
     for y in 0..height {
         let inverse_y = 1.0 / ((y + radius).min(height - 1) + 1 - y.saturating_sub(radius)) as f64;
         let range = y * width..(y + 1) * width;
-        let row =
-            Row { out: &mut dst[range.clone()], keep: &src[range.clone()], background: &background[range] };
         let add = (y + radius < height).then(|| &rows[(y + radius) * width..(y + radius + 1) * width]);
         let sub = (y >= radius).then(|| &rows[(y - radius) * width..(y - radius + 1) * width]);
+        // A row the pass does not use is any row (the other one, or none): it is not read.
+        let row = Row {
+            out: &mut dst[range.clone()],
+            keep: &src[range.clone()],
+            background: &background[range],
+            add: add.or(sub).unwrap_or(&[]),
+            sub: sub.or(add).unwrap_or(&[]),
+        };
         // One pass per row: add the row entering the window, write, remove the row leaving it.
-        match (add, sub) {
-            (Some(a), Some(s)) => vertical_row::<true, true>(row, columns, inverse_x, inverse_y, a, s),
-            (Some(a), None) => vertical_row::<true, false>(row, columns, inverse_x, inverse_y, a, a),
-            (None, Some(s)) => vertical_row::<false, true>(row, columns, inverse_x, inverse_y, s, s),
-            (None, None) => vertical_row::<false, false>(row, columns, inverse_x, inverse_y, &[], &[]),
+        match (add.is_some(), sub.is_some()) {
+            (true, true) => vertical_row::<true, true>(row, columns, inverse_x, inverse_y),
+            (true, false) => vertical_row::<true, false>(row, columns, inverse_x, inverse_y),
+            (false, true) => vertical_row::<false, true>(row, columns, inverse_x, inverse_y),
+            (false, false) => vertical_row::<false, false>(row, columns, inverse_x, inverse_y),
         }
     }
 }
@@ -188,11 +195,14 @@ fn window_row(prefix: &[f64], h: &mut [f32], radius: usize) {
     }
 }
 
-/// One output row of the vertical pass and what it writes from.
+/// One output row of the vertical pass, what it writes from, and the rows of horizontal sums
+/// entering (`add`) and leaving (`sub`) the window.
 struct Row<'a> {
     out: &'a mut [f32],
     keep: &'a [f32],
     background: &'a [bool],
+    add: &'a [f32],
+    sub: &'a [f32],
 }
 
 /// The vertical pass at one row: per column, the total plus the entering row (`ADD`), the
@@ -204,10 +214,8 @@ fn vertical_row<const ADD: bool, const SUB: bool>(
     columns: &mut [f64],
     inverse_x: &[f64],
     inverse_y: f64,
-    add: &[f32],
-    sub: &[f32],
 ) {
-    let Row { out, keep, background } = row;
+    let Row { out, keep, background, add, sub } = row;
     let width = out.len();
     let (out, keep, background, inverse_x) =
         (&mut out[..width], &keep[..width], &background[..width], &inverse_x[..width]);
@@ -227,21 +235,21 @@ fn vertical_row<const ADD: bool, const SUB: bool>(
     }
 }
 
-/// Steps 4a–c on one plane: blur, ease, blur; the plane is both input and final output.
+/// Steps 4a–c on one plane of `grid`: blur, ease, blur; the plane is both input and final
+/// output, and only its `background` pixels change.
 pub(crate) fn smooth_plane(
     plane: &mut [f32],
     background: &[bool],
-    width: usize,
-    height: usize,
-    radii: (usize, usize),
-    ease: Ease,
+    grid: Grid,
+    smoothing: Smoothing,
     scratch: &mut Scratch,
 ) {
+    let Smoothing { radii, ease } = smoothing;
     let mut other = std::mem::take(&mut scratch.other);
     other.resize(plane.len(), 0.0);
-    box_blur(plane, &mut other, background, width, height, radii.0, scratch);
+    box_blur(Blur { src: plane, dst: &mut other, background, grid, radius: radii.0 }, scratch);
     ease.apply_plane(&mut other);
-    box_blur(&other, plane, background, width, height, radii.1, scratch);
+    box_blur(Blur { src: &other, dst: plane, background, grid, radius: radii.1 }, scratch);
     scratch.other = other;
 }
 
@@ -249,24 +257,18 @@ pub(crate) fn smooth_plane(
 /// parallel). Weights summing to 1 keep a maximum ≥ 1/C through the first blur, so the eased sum
 /// is ≥ 2/C² > 0; should it still vanish (f32 underflow needs ~2^60 cameras) the pixel gets equal
 /// weights rather than a division by zero.
-pub(crate) fn smooth(
-    planes: &mut [Vec<f32>],
-    background: &[bool],
-    width: usize,
-    height: usize,
-    radii: (usize, usize),
-    ease: Ease,
-) {
+pub(crate) fn smooth(planes: &mut [Vec<f32>], background: &[bool], grid: Grid, smoothing: Smoothing) {
+    let width = grid.width;
     // As many groups of cameras as threads, one scratch each: fresh scratch planes per camera
     // would pay the page faults of their first touch every time.
     let per_group = planes.len().div_ceil(rayon::current_num_threads().clamp(1, planes.len().max(1))).max(1);
     planes.par_chunks_mut(per_group).for_each(|group| {
         let mut scratch = Scratch::default();
         for plane in group {
-            smooth_plane(plane, background, width, height, radii, ease, &mut scratch);
+            smooth_plane(plane, background, grid, smoothing, &mut scratch);
         }
     });
-    let rows = super::planes::rows_mut(planes, width);
+    let rows = grid.rows_mut(planes);
     rows.into_par_iter().enumerate().for_each(|(y, mut row)| {
         for x in 0..width {
             if !background[y * width + x] {
@@ -386,7 +388,10 @@ mod tests {
             let r = 1 + rng.below(6) as usize;
             let (plane, bg) = random_plane(&mut rng, w, h);
             let mut got = vec![0.0; w * h];
-            box_blur(&plane, &mut got, &bg, w, h, r, &mut scratch);
+            box_blur(
+                Blur { src: &plane, dst: &mut got, background: &bg, grid: Grid::new(w, h), radius: r },
+                &mut scratch,
+            );
             let want = reference_blur(&plane, &bg, w, h, r);
             let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
             assert_eq!(bits(&got), bits(&want), "{w}x{h} r={r}");
@@ -402,7 +407,10 @@ mod tests {
             let r = rng.below(6) as usize;
             let (plane, bg) = random_plane(&mut rng, w, h);
             let mut got = vec![0.0; w * h];
-            box_blur(&plane, &mut got, &bg, w, h, r, &mut scratch);
+            box_blur(
+                Blur { src: &plane, dst: &mut got, background: &bg, grid: Grid::new(w, h), radius: r },
+                &mut scratch,
+            );
             let want = brute_blur(&plane, &bg, w, h, r);
             for p in 0..w * h {
                 assert!((got[p] - want[p]).abs() < 1e-6, "{w}x{h} r={r} p={p}: {} vs {}", got[p], want[p]);
@@ -459,7 +467,7 @@ mod tests {
                 })
                 .collect();
             let mut got = planes.clone();
-            smooth(&mut got, &bg, w, h, (4, 3), ease);
+            smooth(&mut got, &bg, Grid::new(w, h), Smoothing { radii: (4, 3), ease });
             for p in 0..w * h {
                 let sum: f64 = want.iter().map(|pl| pl[p] as f64).sum();
                 for k in 0..cams {

@@ -13,6 +13,7 @@
 //! whose nearest edge pixels are other pixels, but the function is public) is handled exactly:
 //! one camera at distance 0 takes α = 1, the limit of the formula; several share equally.
 
+use super::grid::Layout;
 use super::nearest::NearestEdges;
 use super::warning::RemapWarning;
 use crate::lanes::avx2_twins;
@@ -216,19 +217,19 @@ avx2_twins! {
     ) => weights_row_body
 }
 
-/// The initial weight planes (one per camera index, f32): rows in parallel, every plane's row
-/// written by the task that owns the row.
+/// The initial weight planes (one per camera of `layout`, f32) from the `nearest` edge pixels
+/// and each region's `participants` (`region`: the region of every pixel): rows in parallel,
+/// every plane's row written by the task that owns the row.
 pub(crate) fn initial_weights(
-    cam: &[u32],
+    layout: &Layout,
     region: &[u32],
     nearest: &NearestEdges,
     participants: &[Vec<usize>],
-    cameras: usize,
-    width: usize,
 ) -> Vec<Vec<f32>> {
+    let Layout { grid, cam, cameras, .. } = *layout;
     let mut planes: Vec<Vec<f32>> = (0..cameras).map(|_| vec![0f32; cam.len()]).collect();
-    let rows = super::planes::rows_mut(&mut planes, width);
-    let inputs = Inputs { cam, region, nearest, participants, width };
+    let rows = grid.rows_mut(&mut planes);
+    let inputs = Inputs { cam, region, nearest, participants, width: grid.width };
     rows.into_par_iter().enumerate().for_each_init(RowScratch::default, |scratch, (y, mut row)| {
         weights_row(y, &mut row, scratch, inputs);
     });
@@ -238,17 +239,7 @@ pub(crate) fn initial_weights(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// The formula as written, in f64 (fine for few cameras).
-    fn literal(d: &[f64]) -> Vec<f64> {
-        let total: f64 = d.iter().sum();
-        let g: Vec<f64> = d.iter().map(|x| x / total).collect();
-        let v: Vec<f64> = (0..d.len())
-            .map(|i| (1.0 - g[i]) * (0..d.len()).filter(|&j| j != i).map(|j| g[j]).product::<f64>())
-            .collect();
-        let sum: f64 = v.iter().sum();
-        v.iter().map(|x| x / sum).collect()
-    }
+    use crate::test_util::weights_by_product;
 
     /// The lanes against [`interpolation_weights`] pixel by pixel, bit for bit: random regions
     /// (chunks across regions), one to six participants, and nearest pixels at distance 0.
@@ -279,7 +270,10 @@ mod tests {
                 })
                 .collect();
             let nearest = NearestEdges { planes, participates: Vec::new() };
-            let got = initial_weights(&cam, &region, &nearest, &participants, cameras, w);
+            let grid = crate::remap::grid::Grid::new(w, h);
+            let edges = crate::remap::edges::edge_mask(&cam, grid);
+            let layout = Layout { grid, cam: &cam, edges: &edges, cameras };
+            let got = initial_weights(&layout, &region, &nearest, &participants);
             for p in 0..n {
                 let mut want = vec![0f32; cameras];
                 if cam[p] != 0 {
@@ -325,7 +319,7 @@ mod tests {
             let d: Vec<f64> = (0..n).map(|_| 1.0 + rng.unit() as f64 * 100.0).collect();
             let mut a = vec![0.0; n];
             interpolation_weights(&d, &mut a);
-            for (x, y) in a.iter().zip(literal(&d)) {
+            for (x, y) in a.iter().zip(weights_by_product(&d)) {
                 assert!((x - y).abs() < 1e-12, "{a:?}");
             }
         }
@@ -360,6 +354,10 @@ mod tests {
             let nearest = (0..n).min_by(|&i, &j| d[i].total_cmp(&d[j])).unwrap();
             assert!(a.iter().all(|&x| x <= a[nearest]));
         }
-        assert!(literal(&(0..5000).map(|i| 1.0 + i as f64).collect::<Vec<_>>()).iter().any(|x| x.is_nan()));
+        assert!(
+            weights_by_product(&(0..5000).map(|i| 1.0 + i as f64).collect::<Vec<_>>())
+                .iter()
+                .any(|x| x.is_nan())
+        );
     }
 }

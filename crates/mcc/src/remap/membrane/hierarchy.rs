@@ -17,6 +17,7 @@
 //! level on the way up (Brandt 1977).
 
 use super::{PARALLEL_CELLS, Shared, for_rows};
+use crate::remap::grid::Grid;
 use rayon::prelude::*;
 
 /// Coarsening stops at a level with at most this many cells, which is swept instead.
@@ -35,8 +36,7 @@ type CellRows<'a> = (((&'a mut [f32], &'a mut [f32]), &'a mut [f32]), &'a mut [f
 /// without free pixels.
 #[derive(Default)]
 pub(super) struct Coarse {
-    pub width: usize,
-    pub height: usize,
+    pub grid: Grid,
     east: Vec<f32>,
     south: Vec<f32>,
     ground: Vec<f32>,
@@ -53,8 +53,9 @@ pub(super) struct Work<const K: usize> {
     pub folded: Vec<[f32; K]>,
 }
 
-/// Rebuilds `levels` (reusing their memory) for a `width × height` mask.
-pub(super) fn build(levels: &mut Vec<Coarse>, width: usize, height: usize, fixed: &[bool]) {
+/// Rebuilds `levels` (reusing their memory) for a mask on `grid`.
+pub(super) fn build(levels: &mut Vec<Coarse>, grid: Grid, fixed: &[bool]) {
+    let Grid { width, height } = grid;
     let mut count = 0;
     if width * height > COARSEST_CELLS {
         let free = |x: usize, y: usize| !fixed[y * width + x];
@@ -82,21 +83,21 @@ pub(super) fn build(levels: &mut Vec<Coarse>, width: usize, height: usize, fixed
         if levels.is_empty() {
             levels.push(Coarse::default());
         }
-        levels[0].aggregate(width, height, free, ground, link);
+        levels[0].aggregate(grid, free, ground, link);
         count = 1;
-        while levels[count - 1].width * levels[count - 1].height > COARSEST_CELLS {
+        while levels[count - 1].grid.len() > COARSEST_CELLS {
             if levels.len() == count {
                 levels.push(Coarse::default());
             }
             let (done, rest) = levels.split_at_mut(count);
             let last = &done[count - 1];
+            let w = last.grid.width;
             rest[0].aggregate(
-                last.width,
-                last.height,
-                |x, y| last.diag[y * last.width + x] > 0.0,
-                |x, y| last.ground[y * last.width + x],
+                last.grid,
+                |x, y| last.diag[y * w + x] > 0.0,
+                |x, y| last.ground[y * w + x],
                 |x, y, east| {
-                    let p = y * last.width + x;
+                    let p = y * w + x;
                     if east { last.east[p] } else { last.south[p] }
                 },
             );
@@ -119,18 +120,18 @@ pub(super) fn fit<const K: usize>(work: &mut Vec<Work<K>>, levels: &[Coarse]) {
 }
 
 impl Coarse {
-    /// Becomes the level of 2 × 2 aggregates of a `width × height` level given by its `active`
-    /// cells, their `ground`s and their `link`s (east or south, to the next cell).
+    /// Becomes the level of 2 × 2 aggregates of a level on `grid` given by its `active` cells,
+    /// their `ground`s and their `link`s (east or south, to the next cell).
     fn aggregate(
         &mut self,
-        width: usize,
-        height: usize,
+        grid: Grid,
         active: impl Fn(usize, usize) -> bool + Sync,
         ground: impl Fn(usize, usize) -> f32 + Sync,
         link: impl Fn(usize, usize, bool) -> f32 + Sync,
     ) {
-        let (cw, ch) = (width.div_ceil(2), height.div_ceil(2));
-        (self.width, self.height) = (cw, ch);
+        let Grid { width, height } = grid;
+        self.grid = grid.blocks();
+        let Grid { width: cw, height: ch } = self.grid;
         for v in [&mut self.east, &mut self.south, &mut self.ground, &mut self.diag] {
             v.clear();
             v.resize(cw * ch, 0.0);
@@ -202,7 +203,7 @@ impl Coarse {
 
     /// One red–black Gauss–Seidel sweep: u = (b + Σ c·u_neighbour) / diag.
     fn sweep<const K: usize>(&self, u: &mut [[f32; K]], b: &[[f32; K]], colours: [usize; 2]) {
-        let (w, h) = (self.width, self.height);
+        let Grid { width: w, height: h } = self.grid;
         let grid = Shared(u.as_mut_ptr());
         for colour in colours {
             let row = |y: usize| {
@@ -247,7 +248,7 @@ impl Coarse {
 
     /// r = b − A u.
     fn residual<const K: usize>(&self, u: &[[f32; K]], b: &[[f32; K]], r: &mut [[f32; K]]) {
-        let w = self.width;
+        let w = self.grid.width;
         for_rows(r, w, |(y, row)| {
             for (x, out) in row.iter_mut().enumerate() {
                 let p = y * w + x;
@@ -292,11 +293,10 @@ pub(super) fn cycle<const K: usize>(levels: &[Coarse], here: &mut Work<K>, rest:
     };
     level.sweep(u, b, [0, 1]);
     level.residual(u, b, r);
-    restrict(r, level.width, level.height, &levels[1], &mut next.rhs, &mut next.folded);
+    restrict(r, level.grid, &levels[1], &mut next.rhs, &mut next.folded);
     next.solution.iter_mut().for_each(|v| *v = [0.0; K]);
     cycle(&levels[1..], next, deeper);
-    let (fine, coarse) = ((level.width, level.height), (levels[1].width, levels[1].height));
-    prolong(&next.solution, coarse, |_| true, u, fine, |p| level.diag[p] > 0.0, true);
+    prolong::<K, true>(&next.solution, |_| true, u, level.grid, |p| level.diag[p] > 0.0);
     level.sweep(u, b, [1, 0]);
 }
 
@@ -315,36 +315,29 @@ pub(super) fn full_multigrid<const K: usize>(levels: &[Coarse], work: &mut [Work
         here.solution.iter_mut().for_each(|v| *v = [0.0; K]);
         let next = &levels[l + 1];
         let active = |c: usize| next.diag[c] > 0.0;
-        let (fine, coarse) = ((level.width, level.height), (next.width, next.height));
-        prolong(
-            &coarser[0].solution,
-            coarse,
-            active,
-            &mut here.solution,
-            fine,
-            |p| level.diag[p] > 0.0,
-            false,
-        );
+        prolong::<K, false>(&coarser[0].solution, active, &mut here.solution, level.grid, |p| {
+            level.diag[p] > 0.0
+        });
         cycle(&levels[l..], here, coarser);
     }
 }
 
-/// Aggregates the fine problem `b` (each free pixel's pull of its fixed neighbours) down the
-/// levels into `work[l].rhs`, scaled like the grounds so that a constant stays a solution.
+/// Aggregates the fine problem `b` on `grid` (each free pixel's pull of its fixed neighbours)
+/// down the levels into `work[l].rhs`, scaled like the grounds so that a constant stays a
+/// solution.
 pub(super) fn aggregate_problem<const K: usize>(
     b: &[[f32; K]],
-    width: usize,
-    height: usize,
+    grid: Grid,
     levels: &[Coarse],
     work: &mut [Work<K>],
 ) {
     for (l, level) in levels.iter().enumerate() {
         let (done, rest) = work.split_at_mut(l);
-        let (src, w, h) = match l {
-            0 => (b, width, height),
-            _ => (&done[l - 1].rhs[..], levels[l - 1].width, levels[l - 1].height),
+        let (src, Grid { width: w, height: h }) = match l {
+            0 => (b, grid),
+            _ => (&done[l - 1].rhs[..], levels[l - 1].grid),
         };
-        let cw = level.width;
+        let cw = level.grid.width;
         for_rows(&mut rest[0].rhs, cw, |(cy, row)| {
             for (cx, o) in row.iter_mut().enumerate() {
                 let mut s = [0.0f32; K];
@@ -374,18 +367,18 @@ fn weight(x: usize, c: usize, coarse_len: usize) -> f32 {
     0.75 * (own == c) as u32 as f32 + 0.25 * (other == c) as u32 as f32
 }
 
-/// The coarse rhs: the transpose of [`prolong`] (adding) applied to the residual `r`. Separable:
-/// every fine row is folded to coarse width into `folded` (kept between calls, so the iterations
-/// allocate nothing), then the (up to four) folded rows of a coarse row are weighed.
+/// The coarse rhs: the transpose of [`prolong`] (adding) applied to the residual `r` on `grid`.
+/// Separable: every fine row is folded to coarse width into `folded` (kept between calls, so the
+/// iterations allocate nothing), then the (up to four) folded rows of a coarse row are weighed.
 pub(super) fn restrict<const K: usize>(
     r: &[[f32; K]],
-    w: usize,
-    h: usize,
+    grid: Grid,
     coarse: &Coarse,
     out: &mut [[f32; K]],
     folded: &mut Vec<[f32; K]>,
 ) {
-    let (cw, ch) = (coarse.width, coarse.height);
+    let Grid { width: w, height: h } = grid;
+    let Grid { width: cw, height: ch } = coarse.grid;
     folded.resize(cw * h, [0.0; K]);
     for_rows(&mut folded[..cw * h], cw, |(y, frow)| {
         let row = &r[y * w..(y + 1) * w];
@@ -428,23 +421,21 @@ pub(super) fn restrict<const K: usize>(
     });
 }
 
-/// Bilinear prolongation of the coarse values `e` (a `cw × ch` grid of 2 × 2 blocks of the
-/// `w × h` grid of `u`) at every fine cell where `free(p)`. Adding (`add`), the correction is
-/// added with the full weights (inactive cells hold 0, so corrections fade towards fixed
-/// pixels); otherwise `u` becomes the interpolation over the `active` cells only (weights
-/// renormalised: an inactive cell has no value).
-#[allow(clippy::too_many_arguments)] // two grids and the two masks
-pub(crate) fn prolong<const K: usize>(
+/// Bilinear prolongation of the coarse values `e` (on the 2 × 2 blocks of `grid`) into `u` (on
+/// `grid`) at every fine cell where `free(p)`. Adding (`ADD`), the correction is added with the
+/// full weights (inactive cells hold 0, so corrections fade towards fixed pixels); otherwise `u`
+/// becomes the interpolation over the `active` cells only (weights renormalised: an inactive
+/// cell has no value).
+pub(crate) fn prolong<const K: usize, const ADD: bool>(
     e: &[[f32; K]],
-    (cw, ch): (usize, usize),
     active: impl Fn(usize) -> bool + Sync,
     u: &mut [[f32; K]],
-    (w, h): (usize, usize),
+    grid: Grid,
     free: impl Fn(usize) -> bool + Sync,
-    add: bool,
 ) {
-    debug_assert_eq!(u.len(), w * h);
-    debug_assert!(cw == w.div_ceil(2) && ch == h.div_ceil(2));
+    let (Grid { width: w, height: _ }, Grid { width: cw, height: ch }) = (grid, grid.blocks());
+    debug_assert_eq!(u.len(), grid.len());
+    debug_assert_eq!(e.len(), grid.blocks().len());
     for_rows(u, w, |(y, row)| {
         for (x, out) in row.iter_mut().enumerate() {
             if !free(y * w + x) {
@@ -460,7 +451,7 @@ pub(crate) fn prolong<const K: usize>(
                     }
                 }
             }
-            if add {
+            if ADD {
                 for k in 0..K {
                     out[k] += s[k];
                 }

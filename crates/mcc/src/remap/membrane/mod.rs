@@ -16,6 +16,7 @@
 
 mod hierarchy;
 
+use super::grid::Grid;
 pub(crate) use hierarchy::prolong;
 use hierarchy::{Coarse, Work};
 use rayon::prelude::*;
@@ -27,8 +28,7 @@ const PARALLEL_CELLS: usize = 1 << 14;
 /// A solver for `K`-channel membranes on one grid size: its buffers (and the hierarchy's) are
 /// reused from one mask to the next, so solving camera after camera allocates nothing new.
 pub(crate) struct Membrane<const K: usize> {
-    width: usize,
-    height: usize,
+    grid: Grid,
     fixed: Vec<bool>,
     levels: Vec<Coarse>,
     work: Vec<Work<K>>,
@@ -52,11 +52,10 @@ pub(crate) struct Solved {
 }
 
 impl<const K: usize> Membrane<K> {
-    /// A solver for `width × height` grids.
-    pub(crate) fn new(width: usize, height: usize) -> Self {
+    /// A solver for membranes on `grid`.
+    pub(crate) fn new(grid: Grid) -> Self {
         Self {
-            width,
-            height,
+            grid,
             fixed: Vec::new(),
             levels: Vec::new(),
             work: Vec::new(),
@@ -79,7 +78,7 @@ impl<const K: usize> Membrane<K> {
         tolerance: f64,
         max_iterations: usize,
     ) -> Solved {
-        let (w, h) = (self.width, self.height);
+        let Grid { width: w, height: h } = self.grid;
         let n = w * h;
         assert_eq!(values.len(), n, "a membrane solver for {w}x{h} grids");
         self.fixed.clear();
@@ -95,7 +94,7 @@ impl<const K: usize> Membrane<K> {
             return Solved { iterations: 0, relative_residual: 0.0 };
         }
         let reference = self.constant_residual(mean);
-        hierarchy::build(&mut self.levels, w, h, &self.fixed);
+        hierarchy::build(&mut self.levels, self.grid, &self.fixed);
         hierarchy::fit(&mut self.work, &self.levels);
         // Full-multigrid start (or the constant guess on grids too small for coarse levels).
         let fixed = &self.fixed;
@@ -106,20 +105,11 @@ impl<const K: usize> Membrane<K> {
                 }
             });
         } else {
-            hierarchy::aggregate_problem(&self.b, w, h, &self.levels, &mut self.work);
+            hierarchy::aggregate_problem(&self.b, self.grid, &self.levels, &mut self.work);
             hierarchy::full_multigrid(&self.levels, &mut self.work);
             let coarse = &self.levels[0];
             let active = |c: usize| coarse.diag[c] > 0.0;
-            let (cw, ch) = (coarse.width, coarse.height);
-            hierarchy::prolong(
-                &self.work[0].solution,
-                (cw, ch),
-                active,
-                values,
-                (w, h),
-                |p| !fixed[p],
-                false,
-            );
+            hierarchy::prolong::<K, false>(&self.work[0].solution, active, values, self.grid, |p| !fixed[p]);
         }
         // Conjugate gradients on the fine equations.
         // The updated residual drifts from the true one in f32: when it says done, the true one
@@ -163,7 +153,7 @@ impl<const K: usize> Membrane<K> {
     /// b = Σ fixed neighbours' values at each free pixel (0 at fixed ones); returns the mean of
     /// those neighbours' values and how many there were.
     fn pull(&mut self, values: &[[f32; K]]) -> ([f32; K], usize) {
-        let (w, h) = (self.width, self.height);
+        let Grid { width: w, height: h } = self.grid;
         let fixed = &self.fixed;
         let rows: Vec<([f64; K], usize)> = self
             .b
@@ -197,7 +187,7 @@ impl<const K: usize> Membrane<K> {
 
     /// The residual norms (per channel) of the constant guess `mean`: b − ground·mean.
     fn constant_residual(&self, mean: [f32; K]) -> [f64; K] {
-        let (w, h) = (self.width, self.height);
+        let Grid { width: w, height: h } = self.grid;
         let fixed = &self.fixed;
         let rows: Vec<[f64; K]> = self
             .b
@@ -233,7 +223,7 @@ impl<const K: usize> Membrane<K> {
     /// r = Σ in-image neighbours − n·u at free pixels (0 at fixed ones); returns the largest
     /// channel's norm relative to `reference`.
     fn residual(&mut self, u: &[[f32; K]], reference: &[f64; K]) -> f64 {
-        let squares = apply(&self.fixed, u, &mut self.r, self.width, self.height, |_, au| {
+        let squares = apply(&self.fixed, u, &mut self.r, self.grid, |_, au| {
             let r = au.map(|v| -v);
             (r, r.map(|v| v as f64 * v as f64))
         });
@@ -242,7 +232,7 @@ impl<const K: usize> Membrane<K> {
 
     /// z = one symmetric V-cycle on A z = r from z = 0.
     fn precondition(&mut self) {
-        let (w, h) = (self.width, self.height);
+        let grid = self.grid;
         self.sweep([0, 1], true);
         if self.levels.is_empty() {
             self.sweep([1, 0], false);
@@ -250,16 +240,15 @@ impl<const K: usize> Membrane<K> {
         }
         // q = r − A z (q is free until the next `apply_and_dot`), restricted.
         let r = &self.r;
-        apply(&self.fixed, &self.z, &mut self.q, w, h, |p, az| {
+        apply(&self.fixed, &self.z, &mut self.q, grid, |p, az| {
             (std::array::from_fn(|k| r[p][k] - az[k]), [0.0; K])
         });
         let (first, rest) = self.work.split_first_mut().expect("a coarse level");
-        hierarchy::restrict(&self.q, w, h, &self.levels[0], &mut first.rhs, &mut first.folded);
+        hierarchy::restrict(&self.q, grid, &self.levels[0], &mut first.rhs, &mut first.folded);
         first.solution.iter_mut().for_each(|v| *v = [0.0; K]);
         hierarchy::cycle(&self.levels, first, rest);
         let fixed = &self.fixed;
-        let coarse = (self.levels[0].width, self.levels[0].height);
-        hierarchy::prolong(&first.solution, coarse, |_| true, &mut self.z, (w, h), |p| !fixed[p], true);
+        hierarchy::prolong::<K, true>(&first.solution, |_| true, &mut self.z, grid, |p| !fixed[p]);
         self.sweep([1, 0], false);
     }
 
@@ -268,7 +257,7 @@ impl<const K: usize> Membrane<K> {
     /// first colour's cells become r / count without reading anything.
     fn sweep(&mut self, colours: [usize; 2], from_zero: bool) {
         if from_zero {
-            let (w, h) = (self.width, self.height);
+            let Grid { width: w, height: h } = self.grid;
             let (fixed, r) = (&self.fixed, &self.r);
             for_rows(&mut self.z, w, |(y, row)| {
                 for (x, out) in row.iter_mut().enumerate() {
@@ -290,21 +279,27 @@ impl<const K: usize> Membrane<K> {
     /// The cells of one colour: z = (r + Σ in-image neighbours) / their count.
     fn half_sweep(&mut self, colour: usize) {
         let fixed = &self.fixed;
-        let (w, h) = (self.width, self.height);
-        half_sweep(&mut self.z, Some(&self.r), |p| fixed[p], |_| 0..w, colour, w, h);
+        let w = self.grid.width;
+        half_sweep(
+            &mut self.z,
+            Some(&self.r),
+            Free { fixed: |p| fixed[p], span: |_| 0..w },
+            colour,
+            self.grid,
+        );
     }
 
     /// q = A p at free pixels (0 at fixed ones; p holds 0 there); returns p·q per channel.
     fn apply_and_dot(&mut self) -> [f64; K] {
         let p = &self.p;
-        apply(&self.fixed, p, &mut self.q, self.width, self.height, |i, ap| {
+        apply(&self.fixed, p, &mut self.q, self.grid, |i, ap| {
             (ap, std::array::from_fn(|k| p[i][k] as f64 * ap[k] as f64))
         })
     }
 
     /// u += α p, r −= α q at free pixels; returns the new residual relative to `reference`.
     fn step(&mut self, u: &mut [[f32; K]], alpha: [f32; K], reference: &[f64; K]) -> f64 {
-        let w = self.width;
+        let w = self.grid.width;
         let (fixed, p, q) = (&self.fixed, &self.p, &self.q);
         let rows: Vec<[f64; K]> = u
             .par_chunks_mut(w)
@@ -337,10 +332,10 @@ fn apply<const K: usize>(
     fixed: &[bool],
     x: &[[f32; K]],
     out: &mut [[f32; K]],
-    w: usize,
-    h: usize,
+    grid: Grid,
     f: impl Fn(usize, [f32; K]) -> ([f32; K], [f64; K]) + Sync,
 ) -> [f64; K] {
+    let Grid { width: w, height: h } = grid;
     let rows: Vec<[f64; K]> = out
         .par_chunks_mut(w)
         .enumerate()
@@ -365,37 +360,40 @@ fn apply<const K: usize>(
     sum_rows(&rows)
 }
 
-/// Red–black Gauss–Seidel sweeps of the membrane itself on `values` (fixed pixels, where
-/// `fixed(p)`, hold their values): each free pixel in its row's `span` becomes the mean of its
-/// neighbours; the pixels outside the spans hold theirs. Smooths what an interpolation from a
-/// coarser grid left near the fixed pixels.
+/// The cells a sweep may change: in each row y the pixels of `span(y)`, except those with
+/// `fixed(p)`.
+pub(crate) struct Free<F, S> {
+    pub fixed: F,
+    pub span: S,
+}
+
+/// `sweeps` red–black Gauss–Seidel sweeps of the membrane itself on `values` (on `grid`): each
+/// `free` pixel becomes the mean of its neighbours; the others hold their values. Smooths what
+/// an interpolation from a coarser grid left near the fixed pixels.
 pub(crate) fn relax<const K: usize>(
     values: &mut [[f32; K]],
-    fixed: impl Fn(usize) -> bool + Sync,
-    spans: &[Range<usize>],
-    w: usize,
-    h: usize,
+    free: Free<impl Fn(usize) -> bool + Sync, impl Fn(usize) -> Range<usize> + Sync>,
+    grid: Grid,
     sweeps: usize,
 ) {
     for _ in 0..sweeps {
         for colour in [0, 1] {
-            half_sweep(values, None, &fixed, |y| spans[y].clone(), colour, w, h);
+            half_sweep(values, None, Free { fixed: &free.fixed, span: &free.span }, colour, grid);
         }
     }
 }
 
-/// The free cells of one colour in each row's `span`: u = (rhs + Σ in-image neighbours) / their
-/// count (rhs 0 when `None`). Rows run in parallel on large grids; each reads only the other
-/// colour.
+/// The `free` cells of one colour: u = (rhs + Σ in-image neighbours) / their count (rhs 0 when
+/// `None`). Rows run in parallel on large grids; each reads only the other colour.
 fn half_sweep<const K: usize>(
     u: &mut [[f32; K]],
     rhs: Option<&[[f32; K]]>,
-    fixed: impl Fn(usize) -> bool + Sync,
-    span: impl Fn(usize) -> Range<usize> + Sync,
+    free: Free<impl Fn(usize) -> bool + Sync, impl Fn(usize) -> Range<usize> + Sync>,
     colour: usize,
-    w: usize,
-    h: usize,
+    grid: Grid,
 ) {
+    let Free { fixed, span } = free;
+    let Grid { width: w, height: h } = grid;
     let grid = Shared(u.as_mut_ptr());
     let row = |y: usize| {
         let Range { start, end } = span(y);

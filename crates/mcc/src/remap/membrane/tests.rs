@@ -62,7 +62,7 @@ fn matches_gauss_seidel_to_convergence() {
         let values: Vec<f64> =
             (0..w * h).map(|p| if fixed[p] { rng.unit() as f64 * 4.0 - 2.0 } else { 0.0 }).collect();
         let want = brute(w, h, &fixed, &values);
-        let mut membrane = Membrane::<1>::new(w, h);
+        let mut membrane = Membrane::<1>::new(Grid::new(w, h));
         let mut got: Vec<[f32; 1]> = values.iter().map(|&v| [v as f32]).collect();
         let solved = membrane.solve(|p| fixed[p], &mut got, 1e-5, 100);
         assert!(solved.relative_residual <= 1e-5, "case {case}: {solved:?}");
@@ -90,7 +90,7 @@ fn reproduces_a_linear_ramp_between_two_fixed_columns() {
     let ramp = |p: usize| [(p % w) as f32 / (w - 1) as f32, 3.0 - 2.0 * (p % w) as f32 / (w - 1) as f32];
     let mut values: Vec<[f32; 2]> =
         (0..w * h).map(|p| if fixed[p] { ramp(p) } else { [0.5, -1.0] }).collect();
-    let solved = Membrane::<2>::new(w, h).solve(|p| fixed[p], &mut values, 1e-5, 50);
+    let solved = Membrane::<2>::new(Grid::new(w, h)).solve(|p| fixed[p], &mut values, 1e-5, 50);
     assert!(solved.relative_residual <= 1e-5, "{solved:?}");
     // The residual left (1e-5 of the start's) sits in the smoothest mode, whose eigenvalue
     // ~(π/300)² ≈ 1e-4 magnifies it: the error stays within a tenth of one pixel's step (1/300).
@@ -113,7 +113,7 @@ fn few_iterations_on_a_large_grid_and_a_symmetric_preconditioner() {
     let values: Vec<[f32; 2]> = (0..w * h)
         .map(|p| if fixed[p] { [(p % w) as f32 * 0.01, ((p / w) as f32 * 0.1).sin()] } else { [0.0; 2] })
         .collect();
-    let mut membrane = Membrane::<2>::new(w, h);
+    let mut membrane = Membrane::<2>::new(Grid::new(w, h));
     let mut u = values.clone();
     let solved = membrane.solve(|p| fixed[p], &mut u, 1e-5, 40);
     assert!(solved.relative_residual <= 1e-5 && solved.iterations <= 8, "{solved:?}");
@@ -145,7 +145,7 @@ fn same_bits_for_any_thread_count() {
     let run = |threads| {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
         let mut u = values.clone();
-        pool.install(|| Membrane::<3>::new(w, h).solve(|p| fixed[p], &mut u, 1e-6, 30));
+        pool.install(|| Membrane::<3>::new(Grid::new(w, h)).solve(|p| fixed[p], &mut u, 1e-6, 30));
         u.iter().flat_map(|v| v.map(f32::to_bits)).collect::<Vec<u32>>()
     };
     assert_eq!(run(1), run(3));
