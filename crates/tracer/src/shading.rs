@@ -45,6 +45,10 @@ pub struct ShadingPoint {
     /// The coat's normal: its own normal map's, else the surface's without the base's map
     /// (Blender's Coat Normal defaults to the unmapped normal).
     pub coat_normal: Vec3,
+    /// Sheen colour (`KHR_materials_sheen` factor × texture RGB); black: no sheen.
+    pub sheen: Vec3,
+    /// Sheen roughness (factor × texture A).
+    pub sheen_roughness: f32,
 }
 
 impl ShadingPoint {
@@ -64,6 +68,8 @@ impl ShadingPoint {
             coat: material.coat,
             coat_roughness: material.coat_roughness,
             coat_normal: normal,
+            sheen: material.sheen,
+            sheen_roughness: material.sheen_roughness,
         }
     }
 }
@@ -121,6 +127,15 @@ pub fn evaluate(
             coat_normal = perturb(n, r.eval(textures, uv).truncate(), *scale, frame);
         }
     }
+    let (mut sheen, mut sheen_roughness) = (material.sheen, material.sheen_roughness);
+    if sheen != Vec3::ZERO {
+        if let Some(r) = &t.sheen_color {
+            sheen *= r.eval(textures, uv).truncate();
+        }
+        if let Some(r) = &t.sheen_roughness {
+            sheen_roughness *= r.eval(textures, uv).w;
+        }
+    }
     ShadingPoint {
         base_color: base.truncate(),
         alpha: base.w.clamp(0.0, 1.0),
@@ -134,6 +149,8 @@ pub fn evaluate(
         coat: coat.clamp(0.0, 1.0),
         coat_roughness: coat_roughness.clamp(0.0, 1.0),
         coat_normal,
+        sheen: sheen.max(Vec3::ZERO),
+        sheen_roughness: sheen_roughness.clamp(0.0, 1.0),
     }
 }
 
