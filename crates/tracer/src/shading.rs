@@ -297,4 +297,25 @@ mod tests {
         assert!((s.coat_normal - Vec3::X).length() < 1e-6, "{}", s.coat_normal);
         assert_eq!(ShadingPoint::of(&material, Vec3::Y).coat_normal, Vec3::Y);
     }
+
+    /// `KHR_materials_sheen`'s textures multiply their factors (colour by RGB, roughness by A,
+    /// as SheenCloth packs them in one image); a black colour factor leaves no sheen whatever
+    /// the texture says.
+    #[test]
+    fn sheen_textures_multiply_their_factors() {
+        const FLAT: TangentFrame = TangentFrame { tangent: None, dpdu: Vec3::X, dpdv: Vec3::Y };
+        let textures = vec![texture(Vec4::new(0.5, 0.25, 0.75, 0.4))];
+        let slot = Some(TextureRef::new(0));
+        let mut material = Material {
+            sheen: Vec3::new(1.0, 0.8, 0.6),
+            sheen_roughness: 0.5,
+            textures: MaterialTextures { sheen_color: slot, sheen_roughness: slot, ..Default::default() },
+            ..Material::default()
+        };
+        let s = evaluate(&material, &textures, [Vec2::ZERO; 2], Vec3::Z, &FLAT);
+        assert_eq!(s.sheen, Vec3::new(0.5, 0.8 * 0.25, 0.6 * 0.75));
+        assert_eq!(s.sheen_roughness, 0.5 * 0.4);
+        material.sheen = Vec3::ZERO;
+        assert_eq!(evaluate(&material, &textures, [Vec2::ZERO; 2], Vec3::Z, &FLAT).sheen, Vec3::ZERO);
+    }
 }
