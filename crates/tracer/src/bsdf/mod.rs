@@ -256,23 +256,33 @@ impl Bsdf {
     /// sheen's.
     #[inline(never)]
     fn add_sheen(&self, sheen: &Sheen, p: f32, wi: Vec3, f: Vec3, pdf: f32) -> (Vec3, f32) {
-        let cos_s = wi.dot(self.base.shading_normal());
-        if cos_s <= 0.0 || wi.dot(self.base.geometric_normal()) <= 0.0 {
-            return (Vec3::ZERO, 0.0);
-        }
-        let (fs, ps) = sheen.eval(wi, cos_s);
-        (f + fs, (1.0 - p) * pdf + p * ps)
+        self.add_layer(p, wi, f, pdf, |wi, cos_s| sheen.eval(wi, cos_s))
     }
 
     /// The stack's value and density at `wi` from the base's (`f`, `pdf`) and the coat's.
     #[inline(never)]
     fn add_coat(&self, coat: &Coat, p: f32, wi: Vec3, f: Vec3, pdf: f32) -> (Vec3, f32) {
+        self.add_layer(p, wi, f, pdf, |wi, cos_s| coat.eval(wi, cos_s))
+    }
+
+    /// The value and density at `wi` of a layer (`eval`: its value and density given `wi` and
+    /// the shading cosine) sampled with probability `p` over what lies below it (`f`, `pdf`):
+    /// nothing below the shading or the geometric surface.
+    #[inline(always)]
+    fn add_layer(
+        &self,
+        p: f32,
+        wi: Vec3,
+        f: Vec3,
+        pdf: f32,
+        eval: impl FnOnce(Vec3, f32) -> (Vec3, f32),
+    ) -> (Vec3, f32) {
         let cos_s = wi.dot(self.base.shading_normal());
         if cos_s <= 0.0 || wi.dot(self.base.geometric_normal()) <= 0.0 {
             return (Vec3::ZERO, 0.0);
         }
-        let (fc, pc) = coat.eval(wi, cos_s);
-        (f + fc, (1.0 - p) * pdf + p * pc)
+        let (fl, pl) = eval(wi, cos_s);
+        (f + fl, (1.0 - p) * pdf + p * pl)
     }
 
     /// Samples wi from `u` (2-D, stratified) and `u_lobe` (1-D lobe choice).

@@ -422,14 +422,11 @@ fn sheen(
             format!("{label}: KHR_materials_sheen sheenRoughnessFactor {v} is not a number in [0, 1]")
         })?,
     };
-    let user = |what: &str| format!("{label}, KHR_materials_sheen {what}");
-    slots.sheen_color =
-        raw_reference(ext.get("sheenColorTexture"), textures, ColorSpace::Srgb, &user("sheenColorTexture"));
-    slots.sheen_roughness = raw_reference(
-        ext.get("sheenRoughnessTexture"),
-        textures,
-        ColorSpace::Linear,
-        &user("sheenRoughnessTexture"),
-    );
+    for (key, space, slot) in [
+        ("sheenColorTexture", ColorSpace::Srgb, &mut slots.sheen_color),
+        ("sheenRoughnessTexture", ColorSpace::Linear, &mut slots.sheen_roughness),
+    ] {
+        *slot = raw_reference(ext.get(key), textures, space, &format!("{label}, KHR_materials_sheen {key}"));
+    }
     Ok((color, roughness))
 }
