@@ -48,8 +48,15 @@ fn mean_ratio(image: &RgbImage, reference: &RgbImage) -> [f64; 3] {
 
 /// Scene `name` rendered as the references were, at `seed`, at the reference's size.
 fn render_scene(name: &str, seed: u32) -> Rendered {
-    let dir = scene_dir(name);
-    let scene = Scene::load(&dir.join(format!("{name}.gltf"))).expect("load the parity scene");
+    render_loaded(name, &load(name), seed)
+}
+
+fn load(name: &str) -> Scene {
+    Scene::load(&scene_dir(name).join(format!("{name}.gltf"))).expect("load the parity scene")
+}
+
+/// `scene` (parity scene `name`, perhaps changed) rendered as the references were.
+fn render_loaded(name: &str, scene: &Scene, seed: u32) -> Rendered {
     let camera = scene.camera(&CameraSelector::Name("camera".into())).expect("camera 'camera'").clone();
     let size = reference(name);
     let job = Job {
@@ -58,7 +65,7 @@ fn render_scene(name: &str, seed: u32) -> Rendered {
         seed,
         config: IntegratorConfig::DEFAULT.with_max_depth(DEPTH),
     };
-    let r = render_plain(&scene, &camera, job);
+    let r = render_plain(scene, &camera, job);
     print_stats(name, &r);
     assert_eq!(r.stats.nonfinite_samples, 0, "{name}: NaN/Inf samples");
     r
@@ -118,6 +125,27 @@ fn spot_light_against_itself() {
     assert!(report.passed(), "mcctrace fails against itself:\n{report}");
 }
 
+/// The sheen scene tests the sheen: without it (the same file, every sheen colour black) the
+/// render fails against Cycles' reference.
+#[test]
+fn sheen_scene_fails_without_the_sheen() {
+    let mut scene = load("sheen");
+    assert_eq!(scene.materials.iter().filter(|m| m.has_sheen()).count(), 2, "the two sheen spheres");
+    for m in &mut scene.materials {
+        m.sheen = glam::Vec3::ZERO;
+    }
+    let r = render_loaded("sheen", &scene, SEED);
+    let reference = reference("sheen");
+    let variance = pooled(&r.images.variance);
+    let report = StatTest::default().between(
+        Estimate { mean: &r.images.image, variance: &variance, samples: SPP },
+        Estimate { mean: &reference, variance: &variance, samples: REFERENCE_SPP },
+    );
+    let ratio = mean_ratio(&r.images.image, &reference);
+    println!("sheen without the sheen: channel means {ratio:?}\n{report}");
+    assert!(!report.passed(), "the sheen scene passes without its sheen:\n{report}");
+}
+
 /// Per pixel and channel, the larger of the variance and its mean over the 3 × 3 neighbourhood
 /// (clamped at the borders).
 fn pooled(variance: &RgbImage) -> RgbImage {
@@ -161,4 +189,5 @@ parity!(
     coat,
     rough_glass,
     absorbing_glass,
+    sheen,
 );

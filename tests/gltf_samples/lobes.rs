@@ -1,7 +1,9 @@
 //! The lobe test models: ClearCoatTest (`KHR_materials_clearcoat`: rows of spheres with coat
 //! factors, roughnesses, textures and coat normal maps) renders as its golden, lit by a uniform
 //! sky and seen by a camera framing its bounds, and its coat is really there: the same render
-//! with every coat removed fails against the golden.
+//! with every coat removed fails against the golden. SheenCloth (`KHR_materials_sheen`, colour
+//! and roughness from one texture, tiled by `KHR_texture_transform`) likewise, without a "not
+//! supported" warning, and the same render without its sheen fails.
 
 use super::sample;
 use crate::common::golden::{Sampled, check_golden};
@@ -56,4 +58,26 @@ fn clearcoat_test_model() {
     let bare = renderer(&scene, &camera)(SPP, 1);
     let report = StatTest::default().between(bare.estimate(), golden.estimate());
     assert!(!report.passed(), "ClearCoatTest without its coats passes as the golden:\n{report}");
+}
+
+#[test]
+fn sheen_cloth_model() {
+    let (mut scene, camera) = lit("SheenCloth");
+    for w in &scene.warnings {
+        assert!(!w.contains("not supported"), "SheenCloth: {w}");
+    }
+    let cloth = scene.materials.iter().find(|m| m.has_sheen()).expect("the sheen material");
+    assert!(
+        cloth.textures.sheen_color.is_some() && cloth.textures.sheen_roughness.is_some(),
+        "its sheen texture"
+    );
+    let (_, golden, _) =
+        check_golden("sample-SheenCloth", "SheenCloth.gltf, front, sky 1", SPP, renderer(&scene, &camera));
+    // Without its sheen the cloth is another picture.
+    for m in &mut scene.materials {
+        m.sheen = Vec3::ZERO;
+    }
+    let bare = renderer(&scene, &camera)(SPP, 1);
+    let report = StatTest::default().between(bare.estimate(), golden.estimate());
+    assert!(!report.passed(), "SheenCloth without its sheen passes as the golden:\n{report}");
 }

@@ -63,7 +63,8 @@ def checker(folder, name, colours, size=64, square=8):
 
 def material(name, base=(0.8, 0.8, 0.8), metallic=0.0, roughness=0.5, specular=0.5, ior=1.5,
              emission=None, strength=1.0, transmission=0.0, base_texture=None, normal_texture=None,
-             alpha_texture=None, one_sided=False, coat=0.0, coat_roughness=0.03):
+             alpha_texture=None, one_sided=False, coat=0.0, coat_roughness=0.03, sheen=None,
+             sheen_roughness=0.5):
     m = bpy.data.materials.new(name)
     m.use_nodes = True
     nodes, links = m.node_tree.nodes, m.node_tree.links
@@ -77,6 +78,12 @@ def material(name, base=(0.8, 0.8, 0.8), metallic=0.0, roughness=0.5, specular=0
     # The exporter writes KHR_materials_clearcoat for a coat weight above 0 (IOR 1.5, tint white).
     p.inputs["Coat Weight"].default_value = coat
     p.inputs["Coat Roughness"].default_value = coat_roughness
+    if sheen is not None:
+        # The exporter writes KHR_materials_sheen (colour = weight × tint, roughness); the
+        # importer reads it back as weight 1 and that tint.
+        p.inputs["Sheen Weight"].default_value = 1.0
+        p.inputs["Sheen Tint"].default_value = (*sheen, 1.0)
+        p.inputs["Sheen Roughness"].default_value = sheen_roughness
     if emission is not None:
         p.inputs["Emission Color"].default_value = (*emission, 1.0)
         p.inputs["Emission Strength"].default_value = strength
@@ -296,6 +303,21 @@ def scene_coat(folder):
     panel = plane("panel", (2.0, 2.0, 1.0), (-0.6, -1.0, 3.0), (math.pi, 0.0, 0.0))
     add(panel, material("panel", base=(0.0, 0.0, 0.0), specular=0.0, emission=(1.0, 1.0, 1.0), strength=3.0,
                         one_sided=True))
+
+
+def scene_sheen(folder):
+    """KHR_materials_sheen: a rose sheen of roughness 0.3 over a dark blue diffuse sphere and a
+    pale rough sheen (0.8) over a green one, lit by a point light in front and one behind them,
+    low, so that the fibres' grazing rims show against the wall."""
+    room(grey(), grey(0.6))
+    rose = material("sheen_rose", base=(0.04, 0.04, 0.08), roughness=0.6, sheen=(0.9, 0.3, 0.5),
+                    sheen_roughness=0.3)
+    add(sphere("rose", 0.6, (-0.7, 0.0, 0.6)), rose)
+    pale = material("sheen_pale", base=(0.15, 0.3, 0.1), roughness=0.8, sheen=(0.8, 0.8, 0.7),
+                    sheen_roughness=0.8)
+    add(sphere("pale", 0.6, (0.7, 0.2, 0.6)), pale)
+    point("light", (1.6, -2.0, 2.5), 200.0)
+    point("rim", (0.0, 1.3, 1.4), 120.0)
 
 
 def panel_light(strength=3.0):

@@ -1,7 +1,7 @@
 //! Materials as scenes describe them: the glTF 2.0 metallic-roughness model (glTF spec,
 //! Appendix B) with its textures, alpha modes, `KHR_materials_specular`,
 //! `KHR_materials_emissive_strength`, `KHR_materials_transmission`, `KHR_materials_ior` and
-//! `KHR_materials_clearcoat` and `KHR_materials_volume`.
+//! `KHR_materials_clearcoat`, `KHR_materials_sheen` and `KHR_materials_volume`.
 //! OBJ/MTL materials map onto the same parameters (see `scene::obj`). The BSDF built from these
 //! parameters at a hit lives in `crate::bsdf`.
 
@@ -47,6 +47,10 @@ pub struct MaterialTextures {
     /// `KHR_materials_clearcoat` `clearcoatNormalTexture` (linear) and its `scale`: the coat's
     /// own normal map (without one the coat follows the unmapped surface, as in Blender).
     pub coat_normal: Option<(TextureRef, f32)>,
+    /// `KHR_materials_sheen` `sheenColorTexture`: sRGB, the sheen colour in RGB.
+    pub sheen_color: Option<TextureRef>,
+    /// `KHR_materials_sheen` `sheenRoughnessTexture`: linear, the roughness in A.
+    pub sheen_roughness: Option<TextureRef>,
 }
 
 impl MaterialTextures {
@@ -62,10 +66,12 @@ impl MaterialTextures {
             && self.coat.is_none()
             && self.coat_roughness.is_none()
             && self.coat_normal.is_none()
+            && self.sheen_color.is_none()
+            && self.sheen_roughness.is_none()
     }
 
     /// Every slot's reference (the normal maps' without their scale).
-    pub fn all(&self) -> [Option<TextureRef>; 10] {
+    pub fn all(&self) -> [Option<TextureRef>; 12] {
         [
             self.base_color,
             self.metallic_roughness,
@@ -77,6 +83,8 @@ impl MaterialTextures {
             self.coat,
             self.coat_roughness,
             self.coat_normal.map(|n| n.0),
+            self.sheen_color,
+            self.sheen_roughness,
         ]
     }
 }
@@ -128,6 +136,12 @@ pub struct Material {
     pub coat: f32,
     /// `KHR_materials_clearcoat` `clearcoatRoughnessFactor`: the coat's perceptual roughness.
     pub coat_roughness: f32,
+    /// `KHR_materials_sheen` `sheenColorFactor`: the colour of Cycles' microfibre sheen over
+    /// everything else (Blender's importer: Sheen Weight 1, Sheen Tint this colour). Black: no
+    /// sheen.
+    pub sheen: Vec3,
+    /// `KHR_materials_sheen` `sheenRoughnessFactor`: the sheen's roughness.
+    pub sheen_roughness: f32,
     /// `KHR_materials_volume` as the file gives it; [`Material::thin_walled`] and
     /// [`Material::attenuation`] are derived from it in the file's reading.
     pub volume: Option<Volume>,
@@ -166,6 +180,8 @@ impl Default for Material {
             ior: 1.5,
             coat: 0.0,
             coat_roughness: 0.0,
+            sheen: Vec3::ZERO,
+            sheen_roughness: 0.0,
             volume: None,
             thin_walled: false,
             attenuation: Vec3::ZERO,
@@ -192,6 +208,11 @@ impl Material {
         self.metallic > 0.0 || self.specular > 0.0 || self.transmission > 0.0 || self.coat > 0.0
     }
 
+    /// True when the material has a sheen layer.
+    pub fn has_sheen(&self) -> bool {
+        self.sheen != Vec3::ZERO
+    }
+
     /// True when the material's transmission encloses an absorbing medium.
     pub fn has_volume(&self) -> bool {
         self.transmission > 0.0 && !self.thin_walled && self.attenuation != Vec3::ZERO
@@ -213,6 +234,8 @@ impl Material {
             && self.emission.is_finite()
             && self.coat.is_finite()
             && self.coat_roughness.is_finite()
+            && self.sheen.is_finite()
+            && self.sheen_roughness.is_finite()
             && self.attenuation.is_finite();
         if !finite {
             return Err(format!("material '{}' has a non-finite factor", self.name));
@@ -221,6 +244,7 @@ impl Material {
             || self.emission.min_element() < 0.0
             || self.specular_color.min_element() < 0.0
             || self.attenuation.min_element() < 0.0
+            || self.sheen.min_element() < 0.0
         {
             return Err(format!("material '{}' has a negative colour", self.name));
         }
@@ -240,6 +264,7 @@ impl Material {
             ("transmission", self.transmission),
             ("coat", self.coat),
             ("coat roughness", self.coat_roughness),
+            ("sheen roughness", self.sheen_roughness),
         ] {
             if !(0.0..=1.0).contains(&v) {
                 return Err(format!("material '{}': {what} {v} is outside [0, 1]", self.name));

@@ -45,6 +45,10 @@ pub struct ShadingPoint {
     /// The coat's normal: its own normal map's, else the surface's without the base's map
     /// (Blender's Coat Normal defaults to the unmapped normal).
     pub coat_normal: Vec3,
+    /// Sheen colour (`KHR_materials_sheen` factor × texture RGB); black: no sheen.
+    pub sheen: Vec3,
+    /// Sheen roughness (factor × texture A).
+    pub sheen_roughness: f32,
 }
 
 impl ShadingPoint {
@@ -64,6 +68,8 @@ impl ShadingPoint {
             coat: material.coat,
             coat_roughness: material.coat_roughness,
             coat_normal: normal,
+            sheen: material.sheen,
+            sheen_roughness: material.sheen_roughness,
         }
     }
 }
@@ -121,6 +127,15 @@ pub fn evaluate(
             coat_normal = perturb(n, r.eval(textures, uv).truncate(), *scale, frame);
         }
     }
+    let (mut sheen, mut sheen_roughness) = (material.sheen, material.sheen_roughness);
+    if sheen != Vec3::ZERO {
+        if let Some(r) = &t.sheen_color {
+            sheen *= r.eval(textures, uv).truncate();
+        }
+        if let Some(r) = &t.sheen_roughness {
+            sheen_roughness *= r.eval(textures, uv).w;
+        }
+    }
     ShadingPoint {
         base_color: base.truncate(),
         alpha: base.w.clamp(0.0, 1.0),
@@ -134,6 +149,8 @@ pub fn evaluate(
         coat: coat.clamp(0.0, 1.0),
         coat_roughness: coat_roughness.clamp(0.0, 1.0),
         coat_normal,
+        sheen: sheen.max(Vec3::ZERO),
+        sheen_roughness: sheen_roughness.clamp(0.0, 1.0),
     }
 }
 
@@ -279,5 +296,26 @@ mod tests {
         let s = evaluate(&material, &textures, [Vec2::ZERO; 2], Vec3::Z, &frame);
         assert!((s.coat_normal - Vec3::X).length() < 1e-6, "{}", s.coat_normal);
         assert_eq!(ShadingPoint::of(&material, Vec3::Y).coat_normal, Vec3::Y);
+    }
+
+    /// `KHR_materials_sheen`'s textures multiply their factors (colour by RGB, roughness by A,
+    /// as SheenCloth packs them in one image); a black colour factor leaves no sheen whatever
+    /// the texture says.
+    #[test]
+    fn sheen_textures_multiply_their_factors() {
+        const FLAT: TangentFrame = TangentFrame { tangent: None, dpdu: Vec3::X, dpdv: Vec3::Y };
+        let textures = vec![texture(Vec4::new(0.5, 0.25, 0.75, 0.4))];
+        let slot = Some(TextureRef::new(0));
+        let mut material = Material {
+            sheen: Vec3::new(1.0, 0.8, 0.6),
+            sheen_roughness: 0.5,
+            textures: MaterialTextures { sheen_color: slot, sheen_roughness: slot, ..Default::default() },
+            ..Material::default()
+        };
+        let s = evaluate(&material, &textures, [Vec2::ZERO; 2], Vec3::Z, &FLAT);
+        assert_eq!(s.sheen, Vec3::new(0.5, 0.8 * 0.25, 0.6 * 0.75));
+        assert_eq!(s.sheen_roughness, 0.5 * 0.4);
+        material.sheen = Vec3::ZERO;
+        assert_eq!(evaluate(&material, &textures, [Vec2::ZERO; 2], Vec3::Z, &FLAT).sheen, Vec3::ZERO);
     }
 }

@@ -61,6 +61,13 @@ impl Coat {
         self.albedo
     }
 
+    /// Scales the coat by `k` (in [0, 1]): a layer above takes the rest of the light.
+    #[inline]
+    pub fn attenuate(&mut self, k: f32) {
+        self.scale *= k;
+        self.albedo *= k;
+    }
+
     /// f(wo, wi) times cos(coat normal, wi) / `cos_s` (the integrator weighs f by the cosine of
     /// the shading normal, `cos_s` > 0), and the density of sampling `wi` (world, unit) from
     /// this lobe.

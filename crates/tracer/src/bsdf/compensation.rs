@@ -64,8 +64,9 @@ fn tables() -> &'static Tables {
     })
 }
 
-/// A table bilinear in (μ, roughness).
-fn lookup(e: &[[f32; N]; N], mu: f32, roughness: f32) -> f32 {
+/// A 32 × 32 table [roughness][μ] (grid points i/31) read bilinearly in (μ, roughness), as
+/// Cycles' `lookup_table_read_2D` reads its tables.
+pub(super) fn lookup(e: &[[f32; N]; N], mu: f32, roughness: f32) -> f32 {
     let x = (mu.clamp(0.0, 1.0) * (N - 1) as f32).min((N - 1) as f32 - 1e-4);
     let y = (roughness.clamp(0.0, 1.0) * (N - 1) as f32).min((N - 1) as f32 - 1e-4);
     let (x0, y0) = (x as usize, y as usize);

@@ -179,6 +179,7 @@ impl PathTracer {
                     && !m.has_alpha()
                     && m.transmission == 0.0
                     && m.coat == 0.0
+                    && !m.has_sheen()
                     && BsdfParams::of(m).is_lambert()
             });
         let lights_cover_emission = lights.environment().is_some() || scene.environment.color == Vec3::ZERO;

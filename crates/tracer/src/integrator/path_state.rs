@@ -87,7 +87,23 @@ impl Vertex<'_> {
             Bsdf::with_frame(&params, si.shading, si.n_geom, self.wo)
         };
         // The layers over the base, top last (bsdf/mod.rs: the stack's order).
-        if sp.coat > 0.0 { bsdf.with_coat(sp.coat, sp.coat_roughness, sp.coat_normal, self.wo) } else { bsdf }
+        let bsdf = if sp.coat > 0.0 {
+            bsdf.with_coat(sp.coat, sp.coat_roughness, sp.coat_normal, self.wo)
+        } else {
+            bsdf
+        };
+        // Cycles lays the sheen on the normal the coat and the surface share (with a coat of
+        // weight w: their mix by w).
+        if sp.sheen != Vec3::ZERO {
+            let n = if sp.coat > 0.0 {
+                sp.normal.lerp(sp.coat_normal, sp.coat).normalize_or(sp.normal)
+            } else {
+                sp.normal
+            };
+            bsdf.with_sheen(sp.sheen, sp.sheen_roughness, n, self.wo)
+        } else {
+            bsdf
+        }
     }
 }
 

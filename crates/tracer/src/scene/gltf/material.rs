@@ -2,8 +2,14 @@
 //! metallic-roughness, emissive, normal with its `scale`), `alphaMode`/`alphaCutoff`,
 //! `KHR_texture_transform` on every texture reference, `KHR_materials_emissive_strength`,
 //! `KHR_materials_specular` and `KHR_materials_transmission` (factors and textures),
-//! `KHR_materials_ior`, `KHR_materials_unlit` (as Blender imports it) and
-//! `KHR_materials_clearcoat` (read from the raw JSON: the gltf crate does not parse it).
+//! `KHR_materials_ior`, `KHR_materials_unlit` (as Blender imports it),
+//! `KHR_materials_clearcoat` and `KHR_materials_sheen` (these two read from the raw JSON: the
+//! gltf crate does not parse them).
+//!
+//! - `KHR_materials_sheen` is Cycles' microfibre sheen in both readings (`bsdf/sheen.rs`), as
+//!   Blender's importer sets it up: Sheen Weight 1, Sheen Tint the colour factor × texture,
+//!   Sheen Roughness the roughness factor × texture (A). The specification's Charlie sheen is a
+//!   different lobe (docs/cycles.md: two readings).
 //!
 //! - `KHR_materials_volume`: a transmissive material with `thicknessFactor` > 0 bounds a solid
 //!   whose medium absorbs by Beer–Lambert ([`Material::attenuation`]); the thickness texture is
@@ -258,6 +264,7 @@ pub(super) fn convert(
     };
 
     let (coat, coat_roughness) = clearcoat(raw, textures, &label, &mut slots)?;
+    let (sheen, sheen_roughness) = sheen(raw, textures, &label, &mut slots)?;
 
     // KHR_materials_unlit: Blender imports it as an emission of the base colour that camera
     // rays alone see (a Light Path "Is Camera Ray" mix with a transparent BSDF); the emissive
@@ -286,6 +293,8 @@ pub(super) fn convert(
         ior,
         coat,
         coat_roughness,
+        sheen,
+        sheen_roughness,
         volume,
         thin_walled: false,
         attenuation: Vec3::ZERO,
@@ -381,4 +390,43 @@ fn clearcoat(
         slots.coat_normal = Some((r, scale));
     }
     Ok((coat, roughness))
+}
+
+/// `KHR_materials_sheen` of the material whose raw JSON is `raw`: its (colour, roughness)
+/// factors (black, 0 without the extension: no sheen), and its two textures into `slots`.
+/// `Err` names a factor that is not a number (or three) in [0, 1].
+fn sheen(
+    raw: Option<&Value>,
+    textures: &mut TextureLoader,
+    label: &str,
+    slots: &mut MaterialTextures,
+) -> Result<(Vec3, f32), String> {
+    let Some(ext) = raw.and_then(|r| r.get("extensions")).and_then(|e| e.get("KHR_materials_sheen")) else {
+        return Ok((Vec3::ZERO, 0.0));
+    };
+    let unit = |v: &Value| v.as_f64().filter(|x| (0.0..=1.0).contains(x)).map(|x| x as f32);
+    let color = match ext.get("sheenColorFactor") {
+        None => Vec3::ZERO,
+        Some(v) => match v.as_array().map(|a| a.iter().map(unit).collect::<Option<Vec<_>>>()) {
+            Some(Some(c)) if c.len() == 3 => Vec3::new(c[0], c[1], c[2]),
+            _ => {
+                return Err(format!(
+                    "{label}: KHR_materials_sheen sheenColorFactor {v} is not three numbers in [0, 1]"
+                ));
+            }
+        },
+    };
+    let roughness = match ext.get("sheenRoughnessFactor") {
+        None => 0.0,
+        Some(v) => unit(v).ok_or_else(|| {
+            format!("{label}: KHR_materials_sheen sheenRoughnessFactor {v} is not a number in [0, 1]")
+        })?,
+    };
+    for (key, space, slot) in [
+        ("sheenColorTexture", ColorSpace::Srgb, &mut slots.sheen_color),
+        ("sheenRoughnessTexture", ColorSpace::Linear, &mut slots.sheen_roughness),
+    ] {
+        *slot = raw_reference(ext.get(key), textures, space, &format!("{label}, KHR_materials_sheen {key}"));
+    }
+    Ok((color, roughness))
 }

@@ -69,6 +69,7 @@ const HANDLED_EXTENSIONS: &[&str] = &[
     "KHR_xmp_json_ld",
     "KHR_materials_unlit",
     "KHR_materials_clearcoat",
+    "KHR_materials_sheen",
 ];
 
 /// Loads a `.gltf` or `.glb` file (told apart by the GLB magic, not the name).
