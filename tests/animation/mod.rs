@@ -27,7 +27,7 @@ use tracer::image_io::read_exr;
 mod scene_time;
 
 // Geometry motion blur: a sliding square against its time-averaged coverage.
-mod motion_blur;
+pub(crate) mod motion_blur;
 
 const CORNELL: &str = "scenes/cornell/cornell.gltf";
 
