@@ -29,6 +29,9 @@ mod scene_time;
 // Geometry motion blur: a sliding square against its time-averaged coverage.
 pub(crate) mod motion_blur;
 
+// A moving emitter: its time-averaged light on a floor against the closed form.
+mod moving_light;
+
 const CORNELL: &str = "scenes/cornell/cornell.gltf";
 
 /// The file names in `dir`, sorted.

@@ -188,13 +188,10 @@ impl PathTracer {
                 Frame::from_z((v1 - v0).cross(v2 - v0).normalize_or(Vec3::Z))
             })
             .collect();
-        // Triangles that move within the shutter go in the BVH's motion tree, but for emitters:
-        // light sampling places them where the mesh has them (`Scene::in_motion` warns).
+        // Triangles that move within the shutter go in the BVH's motion tree, emitters too: light
+        // sampling places them where the ray's time has them (`light::motion`).
         let moving = scene.motion.as_deref().and_then(|motion| {
-            let mut moving = motion.moving_triangles(mesh);
-            for (m, &id) in moving.iter_mut().zip(&mesh.material_ids) {
-                *m &= !scene.materials[id as usize].is_emissive();
-            }
+            let moving = motion.moving_triangles(mesh);
             moving.contains(&true).then_some((motion, moving))
         });
         let bvh = match &moving {
