@@ -32,6 +32,9 @@ pub(crate) mod motion_blur;
 // A moving emitter: its time-averaged light on a floor against the closed form.
 mod moving_light;
 
+// `animate` refits the BVH per frame: a resumed shot keeps a continuous run's bits.
+mod refit;
+
 const CORNELL: &str = "scenes/cornell/cornell.gltf";
 
 /// The file names in `dir`, sorted.
