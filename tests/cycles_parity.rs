@@ -18,7 +18,8 @@ use crate::common::*;
 use tracer::compare::{Estimate, StatTest, rel_mse};
 use tracer::image::RgbImage;
 use tracer::integrator::IntegratorConfig;
-use tracer::render::Rendered;
+use tracer::lens::LensChain;
+use tracer::render::{NoProgress, RenderSettings, Rendered};
 use tracer::scene::{CameraSelector, Scene};
 
 /// Samples per pixel of the test renders.
@@ -35,8 +36,8 @@ fn scene_dir(name: &str) -> std::path::PathBuf {
     repo_root().join("tests/data/cycles").join(name)
 }
 
-fn reference(name: &str) -> RgbImage {
-    let path = scene_dir(name).join("reference.exr");
+fn read_reference(name: &str, file: &str) -> RgbImage {
+    let path = scene_dir(name).join(file);
     tracer::image_io::read_exr_rgb(&path).unwrap_or_else(|e| panic!("read {}: {e}", path.display()))
 }
 
@@ -48,24 +49,52 @@ fn mean_ratio(image: &RgbImage, reference: &RgbImage) -> [f64; 3] {
 
 /// Scene `name` rendered as the references were, at `seed`, at the reference's size.
 fn render_scene(name: &str, seed: u32) -> Rendered {
-    render_loaded(name, &load(name), seed)
+    render_at(name, "reference.exr", Still, seed, SPP)
+}
+
+/// Which instant of an animated parity scene is rendered (`ANIMATED` in scenes.py).
+#[derive(Clone, Copy, Debug)]
+enum Shot {
+    /// A still scene, as loaded.
+    Still,
+    /// Posed at `frame` with the geometry in motion over `0..shutter` frames (Blender's motion
+    /// blur at position START with that shutter; 0: none).
+    Frame { frame: u32, shutter: f32 },
+}
+use Shot::*;
+
+/// Scene `name` at `shot`, rendered as the references were (seed, spp, the reference's size;
+/// an animated scene at the default 24 fps and motion steps, as `render --frame --shutter`).
+fn render_at(name: &str, file: &str, shot: Shot, seed: u32, spp: u32) -> Rendered {
+    let loaded = load(name);
+    assert!(loaded.warnings.is_empty(), "{name}: {:?}", loaded.warnings);
+    render_loaded(name, file, loaded, shot, seed, spp)
 }
 
 fn load(name: &str) -> Scene {
     Scene::load(&scene_dir(name).join(format!("{name}.gltf"))).expect("load the parity scene")
 }
 
-/// `scene` (parity scene `name`, perhaps changed) rendered as the references were.
-fn render_loaded(name: &str, scene: &Scene, seed: u32) -> Rendered {
-    let camera = scene.camera(&CameraSelector::Name("camera".into())).expect("camera 'camera'").clone();
-    let size = reference(name);
-    let job = Job {
-        resolution: glam::UVec2::new(size.width, size.height),
-        spp: SPP,
-        seed,
-        config: IntegratorConfig::DEFAULT.with_max_depth(DEPTH),
+/// `loaded` (parity scene `name`, perhaps changed) at `shot`, rendered as [`render_at`] does.
+fn render_loaded(name: &str, file: &str, loaded: Scene, shot: Shot, seed: u32, spp: u32) -> Rendered {
+    let (scene, frame, shutter) = match shot {
+        Still => (loaded, 0, 0.0),
+        Frame { frame, shutter } => {
+            let setup = tracer::job::SceneSetup::default();
+            let posed = setup
+                .at_frame_in_shutter(loaded, frame, (0.0, shutter), tracer::scene::DEFAULT_MOTION_STEPS)
+                .expect("pose the parity scene");
+            (posed, frame, shutter)
+        }
     };
-    let r = render_plain(scene, &camera, job);
+    let camera = scene.camera(&CameraSelector::Name("camera".into())).expect("camera 'camera'").clone();
+    let size = read_reference(name, file);
+    let config = IntegratorConfig::DEFAULT.with_max_depth(DEPTH);
+    let tracer = tracer::integrator::PathTracer::new(&scene, config).expect("prepare the scene");
+    let built = camera.build(glam::UVec2::new(size.width, size.height)).expect("build the camera");
+    let settings = RenderSettings { seed, frame, shutter: (0.0, shutter), ..RenderSettings::still(spp) };
+    let r = tracer::render::render(&tracer, built.as_ref(), &mut LensChain::new(), &settings, &NoProgress)
+        .expect("render");
     print_stats(name, &r);
     assert_eq!(r.stats.nonfinite_samples, 0, "{name}: NaN/Inf samples");
     r
@@ -73,8 +102,13 @@ fn render_loaded(name: &str, scene: &Scene, seed: u32) -> Rendered {
 
 /// Renders scene `name` and checks it against its Cycles reference.
 fn check(name: &str) {
-    let reference = reference(name);
-    let r = render_scene(name, SEED);
+    check_shot(name, "reference.exr", Still);
+}
+
+/// Renders scene `name` at `shot` and checks it against its Cycles reference `file`.
+fn check_shot(name: &str, file: &str, shot: Shot) {
+    let reference = read_reference(name, file);
+    let r = render_at(name, file, shot, SEED, SPP);
     maybe_save(&format!("cycles-{name}"), &r.images.image);
     let variance = pooled(&r.images.variance);
     let against = |mean: &RgbImage, variance: &RgbImage| {
@@ -134,8 +168,8 @@ fn sheen_scene_fails_without_the_sheen() {
     for m in &mut scene.materials {
         m.sheen = glam::Vec3::ZERO;
     }
-    let r = render_loaded("sheen", &scene, SEED);
-    let reference = reference("sheen");
+    let r = render_loaded("sheen", "reference.exr", scene, Still, SEED, SPP);
+    let reference = read_reference("sheen", "reference.exr");
     let variance = pooled(&r.images.variance);
     let report = StatTest::default().between(
         Estimate { mean: &r.images.image, variance: &variance, samples: SPP },
@@ -144,6 +178,55 @@ fn sheen_scene_fails_without_the_sheen() {
     let ratio = mean_ratio(&r.images.image, &reference);
     println!("sheen without the sheen: channel means {ratio:?}\n{report}");
     assert!(!report.passed(), "the sheen scene passes without its sheen:\n{report}");
+}
+
+/// The control of an animated scene's check: rendered at `shot`, which leaves out what the
+/// reference `file` shows (the pose, the morph weights, the shutter), scene `name` fails the
+/// z-test against it (at a quarter of the samples: the difference is gross).
+fn assert_differs(name: &str, file: &str, shot: Shot) {
+    let reference = read_reference(name, file);
+    let r = render_at(name, file, shot, SEED, SPP / 4);
+    let variance = pooled(&r.images.variance);
+    let report = StatTest::default().between(
+        Estimate { mean: &r.images.image, variance: &variance, samples: SPP / 4 },
+        Estimate { mean: &reference, variance: &variance, samples: REFERENCE_SPP },
+    );
+    println!("{name} at {shot:?} against {file}:\n{report}");
+    assert!(!report.passed(), "{name}: {shot:?} passes against {file}, which it should not:\n{report}");
+}
+
+/// A character rig (four chained bones, smooth skin weights) at three frames of its bend: at
+/// frame 12's key and between keys (6, 20). The bind pose fails against the bent frame.
+#[test]
+fn skinned_rig() {
+    for frame in [6, 12, 20] {
+        check_shot("skinned_rig", &format!("reference-f{frame}.exr"), Frame { frame, shutter: 0.0 });
+    }
+    assert_differs("skinned_rig", "reference-f12.exr", Still);
+}
+
+/// Shape keys: two keys' weights animated, at frame 7 (between authored keys); the rest shape
+/// (weights 0) fails against it.
+#[test]
+fn shape_keys() {
+    check_shot("shape_keys", "reference-f7.exr", Frame { frame: 7, shutter: 0.0 });
+    assert_differs("shape_keys", "reference-f7.exr", Still);
+}
+
+/// Deformation motion blur: the rig swinging within a shutter of 0.5 frames from frame 2
+/// (Blender's START, 0.5); the same frame without the shutter fails.
+#[test]
+fn deforming_blur() {
+    check_shot("deforming_blur", "reference-f2.exr", Frame { frame: 2, shutter: 0.5 });
+    assert_differs("deforming_blur", "reference-f2.exr", Frame { frame: 2, shutter: 0.0 });
+}
+
+/// Rigid motion blur: a translating cube within a shutter of 0.5 frames from frame 6; the same
+/// frame without the shutter fails.
+#[test]
+fn rigid_blur() {
+    check_shot("rigid_blur", "reference-f6.exr", Frame { frame: 6, shutter: 0.5 });
+    assert_differs("rigid_blur", "reference-f6.exr", Frame { frame: 6, shutter: 0.0 });
 }
 
 /// Per pixel and channel, the larger of the variance and its mean over the 3 × 3 neighbourhood

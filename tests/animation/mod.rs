@@ -27,7 +27,13 @@ use tracer::image_io::read_exr;
 mod scene_time;
 
 // Geometry motion blur: a sliding square against its time-averaged coverage.
-mod motion_blur;
+pub(crate) mod motion_blur;
+
+// A moving emitter: its time-averaged light on a floor against the closed form.
+mod moving_light;
+
+// `animate` refits the BVH per frame: a resumed shot keeps a continuous run's bits.
+mod refit;
 
 const CORNELL: &str = "scenes/cornell/cornell.gltf";
 

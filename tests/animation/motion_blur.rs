@@ -9,8 +9,20 @@ use tracer::image::RgbImage;
 use tracer::image_io::read_exr;
 
 /// An orthographic camera `eye` (half-extent 1, at the origin looking down −z) and a black
-/// (no diffuse, no specular layer: it reflects nothing) 0.5 × 0.5 square at z = −2 whose node moves along x LINEARly through the keys `(s, x)`.
+/// (no diffuse, no specular layer: it reflects nothing) 0.5 × 0.5 square at z = −2 whose node
+/// moves along x LINEARly through the keys `(s, x)`.
 fn write_sliding_square(dir: &Path, keys: &[(f32, f32)]) -> PathBuf {
+    write_square(dir, keys, false)
+}
+
+/// [`write_sliding_square`] lit by itself, for workflows that take no `--env` (the studio): an
+/// emissive 4 × 4 backdrop of radiance 1 at z = −3, which reflects nothing, stands in for the
+/// white sky.
+pub(crate) fn write_lit_sliding_square(dir: &Path, keys: &[(f32, f32)]) -> PathBuf {
+    write_square(dir, keys, true)
+}
+
+fn write_square(dir: &Path, keys: &[(f32, f32)], backdrop: bool) -> PathBuf {
     let mut bin: Vec<u8> = Vec::new();
     let f32s = |bin: &mut Vec<u8>, v: &[f32]| bin.extend(v.iter().flat_map(|f| f.to_le_bytes()));
     f32s(&mut bin, &[-0.25, -0.25, -2.0, 0.25, -0.25, -2.0, 0.25, 0.25, -2.0, -0.25, 0.25, -2.0]);
@@ -20,29 +32,47 @@ fn write_sliding_square(dir: &Path, keys: &[(f32, f32)]) -> PathBuf {
     f32s(&mut bin, &times);
     f32s(&mut bin, &xs);
     let n = keys.len();
-    std::fs::write(dir.join("slide.bin"), &bin).unwrap();
     let (t_end, x_end) = (60 + 4 * n, 60 + 16 * n);
+    assert_eq!(x_end, bin.len());
+    f32s(&mut bin, &[-2.0, -2.0, -3.0, 2.0, -2.0, -3.0, 2.0, 2.0, -3.0, -2.0, 2.0, -3.0]);
+    std::fs::write(dir.join("slide.bin"), &bin).unwrap();
+    let (nodes, extra_node, extra_mesh, extra_material) = if backdrop {
+        (
+            "[0, 1, 2]",
+            r#", {"name": "backdrop", "mesh": 1}"#,
+            r#", {"primitives": [{"attributes": {"POSITION": 4}, "indices": 1, "material": 1}]}"#,
+            r#", {"pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1], "metallicFactor": 0},
+                  "emissiveFactor": [1, 1, 1],
+                  "extensions": {"KHR_materials_specular": {"specularFactor": 0}},
+                  "doubleSided": true}"#,
+        )
+    } else {
+        ("[0, 1]", "", "", "")
+    };
     let json = format!(
-        r#"{{"asset": {{"version": "2.0"}}, "scene": 0, "scenes": [{{"nodes": [0, 1]}}],
-  "nodes": [{{"name": "square", "mesh": 0}}, {{"name": "eye", "camera": 0}}],
+        r#"{{"asset": {{"version": "2.0"}}, "scene": 0, "scenes": [{{"nodes": {nodes}}}],
+  "nodes": [{{"name": "square", "mesh": 0}}, {{"name": "eye", "camera": 0}}{extra_node}],
   "cameras": [{{"name": "eye", "type": "orthographic",
                 "orthographic": {{"xmag": 1, "ymag": 1, "znear": 0.01, "zfar": 100}}}}],
-  "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}, "indices": 1, "material": 0}}]}}],
+  "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}, "indices": 1, "material": 0}}]}}{extra_mesh}],
   "extensionsUsed": ["KHR_materials_specular"],
   "materials": [{{"pbrMetallicRoughness": {{"baseColorFactor": [0, 0, 0, 1], "metallicFactor": 0}},
                   "extensions": {{"KHR_materials_specular": {{"specularFactor": 0}}}},
-                  "doubleSided": true}}],
+                  "doubleSided": true}}{extra_material}],
   "buffers": [{{"uri": "slide.bin", "byteLength": {len}}}],
   "bufferViews": [{{"buffer": 0, "byteOffset": 0, "byteLength": 48}},
                   {{"buffer": 0, "byteOffset": 48, "byteLength": 12}},
                   {{"buffer": 0, "byteOffset": 60, "byteLength": {tl}}},
-                  {{"buffer": 0, "byteOffset": {t_end}, "byteLength": {xl}}}],
+                  {{"buffer": 0, "byteOffset": {t_end}, "byteLength": {xl}}},
+                  {{"buffer": 0, "byteOffset": {x_end}, "byteLength": 48}}],
   "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
                   "min": [-0.25, -0.25, -2], "max": [0.25, 0.25, -2]}},
                 {{"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}},
                 {{"bufferView": 2, "componentType": 5126, "count": {n}, "type": "SCALAR",
                   "min": [{t0}], "max": [{t1}]}},
-                {{"bufferView": 3, "componentType": 5126, "count": {n}, "type": "VEC3"}}],
+                {{"bufferView": 3, "componentType": 5126, "count": {n}, "type": "VEC3"}},
+                {{"bufferView": 4, "componentType": 5126, "count": 4, "type": "VEC3",
+                  "min": [-2, -2, -3], "max": [2, 2, -3]}}],
   "animations": [{{"channels": [{{"sampler": 0, "target": {{"node": 0, "path": "translation"}}}}],
                    "samplers": [{{"input": 2, "output": 3, "interpolation": "LINEAR"}}]}}]}}"#,
         len = bin.len(),
@@ -51,7 +81,6 @@ fn write_sliding_square(dir: &Path, keys: &[(f32, f32)]) -> PathBuf {
         t0 = times[0],
         t1 = times[n - 1],
     );
-    assert_eq!(x_end, bin.len());
     let path = dir.join("slide.gltf");
     std::fs::write(&path, json).unwrap();
     path
@@ -172,4 +201,53 @@ fn a_shutter_leaves_a_static_scene_bit_for_bit() {
     let shut = run("shutter.exr", &["--shutter", "0..0.5"]);
     assert!(plain.pixels.iter().any(|p| p.max_element() > 0.01), "the box is lit");
     assert!(plain.pixels == shut.pixels, "a shutter changed a static scene's bits");
+}
+
+/// `rerender --shutter` blurs the moving geometry as `render --shutter` does: the sliding
+/// square seen through the ray file `render --lens-writer` recorded of its camera (one ray per
+/// pixel, the lens reader spreading samples over the pixel as the camera does) matches the
+/// time-averaged coverage; without the shutter it is sharp; the header records the shutter.
+#[test]
+fn rerender_blurs_moving_geometry_within_the_shutter() {
+    let dir = Scratch::new("motion-rerender");
+    let scene = write_sliding_square(dir.dir(), &[(0.0, -12.0), (1.0, 12.0)]);
+    let views = dir.path("views");
+    render(&scene, &views.join("frame0012camera01.exr"), &["--frame", "12", "--spp", "1", "--lens-writer"]);
+    let lens = views.join("frame0012camera01.mcr");
+    assert!(lens.is_file(), "the lens writer wrote {}", lens.display());
+    let rerender = |name: &str, extra: &[&str]| {
+        let (s, l, o) = (scene.display().to_string(), lens.display().to_string(), dir.s(name));
+        let mut args = vec![
+            "rerender",
+            &s,
+            "--lens",
+            &l,
+            "--frame",
+            "12",
+            "--env",
+            "1,1,1",
+            "--max-depth",
+            "2",
+            "--spp",
+            "256",
+            "--quiet",
+            "--out",
+            &o,
+        ];
+        args.extend_from_slice(extra);
+        mcctrace(&args).unwrap();
+        read_exr(&dir.path(name)).unwrap()
+    };
+    let blurred = rerender("blur.exr", &["--shutter", "0..0.5"]);
+    let sharp = rerender("sharp.exr", &[]);
+    let mut worst = 0.0f64;
+    for i in 0..32 {
+        let want = expected_column(i, 0.0, 0.5);
+        let sigma = (want * (1.0 - want) / 2048.0).sqrt();
+        let got = column(&blurred.rgb, i);
+        assert!((got - want).abs() <= 5.0 * sigma + 1e-6, "column {i}: {got}, expected {want} (σ {sigma})");
+        worst = worst.max((column(&sharp.rgb, i) - want).abs());
+    }
+    assert!(worst > 0.4, "without --shutter the square is sharp ({worst})");
+    assert_eq!(blurred.metadata["mcctrace/shutter"], "0..0.5");
 }

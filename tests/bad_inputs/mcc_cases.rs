@@ -414,6 +414,9 @@ pub(crate) fn mcc_cases(add: &mut impl FnMut(Case)) {
         .file("collage.png", collage_png(W, H))
         .args("rerender {dir}/ok-triangle.gltf --collage {dir}/collage.png --rays {dir}/views --spp 0 -q --out {out}/final.exr")
         .fails(&["0 samples per pixel"]));
+    add(rerender_lens(g, "cli-rerender-shutter-reversed", "lens.txt", corpus_file("rays/ok-camera01.txt"))
+        .args("--shutter 0.5..0.2")
+        .fails(&["--shutter", "shutter '0.5..0.2': need 0 ≤ OPEN ≤ CLOSE ≤ 1"]));
     add(rerender_lens(g, "cli-rerender-out-not-exr", "lens.txt", corpus_file("rays/ok-camera01.txt"))
         .set("--out {out}/final.png")
         .fails(&["final.png", "give an .exr file"]));

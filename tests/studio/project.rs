@@ -189,3 +189,74 @@ async fn opens_layered_and_tagged_collages_cut_elsewhere() {
     drop(running);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// "Render final" with a shutter blurs what moves as `mcctrace rerender --shutter` does, bit for
+/// bit (the sliding square of tests/animation/, lit by its emissive backdrop), and differs from
+/// the final without it; a shutter out of 0 ≤ open ≤ close ≤ 1 is refused, naming it.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn render_final_blurs_within_the_shutter_as_rerender_does() {
+    let dir = scratch("final-shutter");
+    let scene = crate::animation::motion_blur::write_lit_sliding_square(&dir, &[(0.0, -12.0), (1.0, 12.0)]);
+    let project = dir.join("proj");
+    let config = ::studio::Config {
+        res: Some([32, 32]),
+        frame: 12,
+        engine: super::SETTINGS,
+        ..::studio::Config::new(Some(scene.clone()), project.clone())
+    };
+    let running = ::studio::serve(config).expect("the studio starts");
+    let mut client = Client::connect(&running).await;
+    client.request(json!({"type": "denoise", "on": false})).await;
+    client.hello().await;
+    client.paint([0, 0, 32, 32], &[1; 32 * 32]).await;
+    let (res, spp) = ([32, 32], 16);
+    let mut finals = Vec::new();
+    for shutter in [Some([0.0, 0.5]), None] {
+        let request = match shutter {
+            Some(s) => json!({"type": "render_final", "res": res, "spp": spp, "shutter": s}),
+            None => json!({"type": "render_final", "res": res, "spp": spp}),
+        };
+        let id = client.send(request).await;
+        let done = client.until(|m| matches!(m, Msg::Json(v) if v["id"] == json!(id))).await;
+        let Msg::Json(done) = done else { unreachable!() };
+        assert_eq!(done["type"], "final", "{done}");
+        let exr = Path::new(done["exr"].as_str().unwrap());
+        finals.push(read_exr_rgb(exr).unwrap());
+        let _ = std::fs::rename(exr, dir.join(format!("final-{}.exr", finals.len())));
+    }
+    let batch = dir.join("batch.exr");
+    crate::common::mcctrace(&[
+        "rerender",
+        &scene.display().to_string(),
+        "--collage",
+        &project.join("collage.png").display().to_string(),
+        "--rays",
+        &project.join("views").display().to_string(),
+        "--frame",
+        "12",
+        "--shutter",
+        "0..0.5",
+        "--res",
+        "32x32",
+        "--spp",
+        &spp.to_string(),
+        "--quiet",
+        "--out",
+        &batch.display().to_string(),
+    ])
+    .expect("mcctrace rerender --shutter");
+    let bits = |i: &tracer::image::RgbImage| {
+        i.pixels.iter().flat_map(|p| p.to_array().map(f32::to_bits)).collect::<Vec<_>>()
+    };
+    assert!(bits(&finals[0]) == bits(&read_exr_rgb(&batch).unwrap()), "final --shutter and rerender differ");
+    assert!(bits(&finals[0]) != bits(&finals[1]), "the shutter changed nothing");
+    for bad in [[0.5, 0.2], [0.0, 1.5], [-0.1, 0.5]] {
+        let reply =
+            client.request(json!({"type": "render_final", "res": res, "spp": 1, "shutter": bad})).await;
+        assert_eq!(reply["type"], "error", "{bad:?} → {reply}");
+        assert!(reply["message"].as_str().unwrap().contains("shutter"), "{reply}");
+    }
+    drop(client);
+    drop(running);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

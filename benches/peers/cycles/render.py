@@ -90,7 +90,26 @@ def import_scene(gltf_path, camera):
             o.data.shadow_soft_size = 0.0
     # glTF has no background; the factory world is grey.
     scene.world = None
+    # The importer gives each bone a custom shape (a mesh object for drawing it in the
+    # viewport): it is no part of the file's scene and must not render.
+    for o in scene.objects:
+        if o.type == "ARMATURE":
+            for pb in o.pose.bones:
+                if pb.custom_shape is not None:
+                    pb.custom_shape.hide_render = True
     return scene
+
+
+def at_frame(scene, frame, shutter):
+    """The imported scene at `frame` (glTF time frame / fps: the importer keys time t at frame
+    t · fps), with motion blur over `shutter` frames from the frame on (position START, which is
+    mcctrace's `--shutter 0..shutter`; 0 is none). Objects keep Blender's default motion steps
+    (Steps 1: 3 steps), deformation blur on."""
+    scene.frame_set(int(frame), subframe=frame - int(frame))
+    scene.render.use_motion_blur = shutter > 0.0
+    scene.render.motion_blur_shutter = max(shutter, 0.0)
+    scene.render.motion_blur_position = "START"
+    scene.cycles.rolling_shutter_type = "NONE"
 
 
 def environment(scene, path):

@@ -21,6 +21,7 @@ import sys
 
 import bpy
 import numpy as np
+from mathutils import Quaternion
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import render as peer  # noqa: E402
@@ -349,6 +350,161 @@ def scene_absorbing_glass(folder):
     panel_light()
 
 
+def column_mesh(name, radius, height, rings, segments=32):
+    """A closed, smooth-shaded cylinder standing on z = 0: `rings` + 1 rings of `segments`
+    vertices (enough to bend smoothly), caps of one fan each."""
+    verts, faces = [], []
+    for r in range(rings + 1):
+        z = height * r / rings
+        for s in range(segments):
+            a = 2.0 * math.pi * s / segments
+            verts.append((radius * math.cos(a), radius * math.sin(a), z))
+    for r in range(rings):
+        for s in range(segments):
+            a, b = r * segments + s, r * segments + (s + 1) % segments
+            faces.append((a, b, b + segments, a + segments))
+    faces.append(tuple(reversed(range(segments))))
+    faces.append(tuple(rings * segments + s for s in range(segments)))
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata(verts, [], faces)
+    mesh.update()
+    o = bpy.data.objects.new(name, mesh)
+    bpy.context.scene.collection.objects.link(o)
+    for poly in mesh.polygons:
+        poly.use_smooth = True
+    return o
+
+
+def rigged_column(location, bones=4, height=2.0, radius=0.22):
+    """A character-like rig: a column of `bones` chained bones standing at `location`, skinned
+    with smooth weights (each vertex shared by the two bones nearest its height, a linear
+    ramp between their centres), as a limb is. Returns (armature, mesh, pose bones)."""
+    scene = bpy.context.scene
+    arm = bpy.data.armatures.new("rig")
+    rig = bpy.data.objects.new("rig", arm)
+    rig.location = location
+    scene.collection.objects.link(rig)
+    bpy.context.view_layer.objects.active = rig
+    bpy.ops.object.mode_set(mode="EDIT")
+    step = height / bones
+    parent = None
+    for i in range(bones):
+        eb = arm.edit_bones.new(f"bone{i}")
+        eb.head, eb.tail = (0.0, 0.0, i * step), (0.0, 0.0, (i + 1) * step)
+        if parent is not None:
+            eb.parent, eb.use_connect = parent, True
+        parent = eb
+    bpy.ops.object.mode_set(mode="OBJECT")
+    body = column_mesh("body", radius, height, rings=8 * bones)
+    body.parent = rig
+    modifier = body.modifiers.new("skin", "ARMATURE")
+    modifier.object = rig
+    groups = [body.vertex_groups.new(name=f"bone{i}") for i in range(bones)]
+    for v in body.data.vertices:
+        # The bone coordinate u: bone i spans [i, i + 1); weights ramp between centres.
+        u = min(max(v.co.z / step - 0.5, 0.0), bones - 1.0)
+        i = min(int(u), bones - 2)
+        f = u - i
+        for j, w in ((i, 1.0 - f), (i + 1, f)):
+            if w > 0.0:
+                groups[j].add([v.index], w, "REPLACE")
+    return rig, body, rig.pose.bones
+
+
+def key_bends(bones, keys):
+    """Keys each pose bone's rotation about its local Z (the camera's line of sight, Blender's
+    world Y, for these bones along world Z: a bone's local Y runs along it) at the given frames:
+    keys = [(frame, [angle in degrees per bone]), ...], linear in between."""
+    for frame, angles in keys:
+        for pb, angle in zip(bones, angles):
+            pb.rotation_mode = "QUATERNION"
+            pb.rotation_quaternion = Quaternion((0.0, 0.0, 1.0), math.radians(angle))
+            pb.keyframe_insert("rotation_quaternion", frame=frame)
+    linear_keys()
+
+
+def linear_keys():
+    for action in bpy.data.actions:
+        for curve in fcurves_of(action):
+            for k in curve.keyframe_points:
+                k.interpolation = "LINEAR"
+
+
+def fcurves_of(action):
+    """An action's F-curves (Blender 5 keeps them in layered channel bags)."""
+    if hasattr(action, "fcurves") and len(action.fcurves):
+        return list(action.fcurves)
+    return [c for layer in action.layers for strip in layer.strips for bag in strip.channelbags
+            for c in bag.fcurves]
+
+
+def scene_skinned_rig(folder):
+    """A character rig: a column of four chained bones with smooth skin weights, bending like
+    a limb (keys at frames 0, 12 and 24); rendered at three frames (`ANIMATED`)."""
+    room(grey(), grey(0.6))
+    _, body, bones = rigged_column((0.0, 0.3, 0.0))
+    body.data.materials.append(material("skin", base=(0.8, 0.35, 0.25), roughness=0.6))
+    key_bends(bones, [(0, [0, 0, 0, 0]), (12, [15, 30, 35, 30]), (24, [-10, -35, -40, -45])])
+    point("light", (1.5, -2.5, 3.0), 300.0)
+
+
+def scene_shape_keys(folder):
+    """Shape keys: a sphere with two keys (a bulge upwards, a squash sideways) whose values are
+    keyed at frames 0, 10 and 20 (linear); rendered at frame 7, between keys."""
+    room(grey(), grey(0.6))
+    ball = sphere("ball", 0.6, (0.0, 0.0, 0.7))
+    ball.shape_key_add(name="Basis")
+    up, wide = ball.shape_key_add(name="up"), ball.shape_key_add(name="wide")
+    for i, v in enumerate(ball.data.vertices):
+        x, y, z = v.co
+        up.data[i].co = (x, y, z + 0.8 * max(z, 0.0) ** 2 / 0.6)
+        wide.data[i].co = (1.7 * x, y, 0.6 * z)
+    ball.data.materials.append(material("clay", base=(0.3, 0.6, 0.3), roughness=0.5))
+    for frame, (a, b) in ((0, (0.0, 0.0)), (10, (1.0, 0.2)), (20, (0.1, 1.0))):
+        up.value, wide.value = a, b
+        up.keyframe_insert("value", frame=frame)
+        wide.keyframe_insert("value", frame=frame)
+    linear_keys()
+    point("light", (1.5, -2.5, 3.0), 300.0)
+
+
+def scene_deforming_blur(folder):
+    """Deformation motion blur: the rig swinging fast (each bone 15° a frame: its tip sweeps
+    about 1 m while the shutter is open; frame 2, START, 0.5 frames: `ANIMATED`)."""
+    room(grey(), grey(0.6))
+    _, body, bones = rigged_column((0.0, 0.3, 0.0))
+    body.data.materials.append(material("skin", base=(0.8, 0.35, 0.25), roughness=0.6))
+    key_bends(bones, [(0, [-30, -30, -30, -30]), (4, [30, 30, 30, 30])])
+    point("light", (1.5, -2.5, 3.0), 300.0)
+
+
+def scene_rigid_blur(folder):
+    """Rigid motion blur: a cube sliding along x (1 m per frame, linear keys) in front of the
+    wall, a static sphere beside it (frame 6, START, 0.5 frames: `ANIMATED`)."""
+    room(grey(), grey(0.6))
+    bpy.ops.mesh.primitive_cube_add(size=0.8, location=(0.0, 0.0, 0.8))
+    cube = bpy.context.active_object
+    cube.name = "cube"
+    add(cube, material("cube", base=(0.2, 0.3, 0.8), roughness=0.5))
+    add(sphere("ball", 0.4, (1.4, 0.5, 0.4)), material("ball", base=(0.8, 0.6, 0.2), roughness=0.5))
+    for frame, x in ((0, -2.5), (12, 2.5)):
+        cube.location.x = x
+        cube.keyframe_insert("location", frame=frame)
+    linear_keys()
+    point("light", (1.5, -2.5, 3.0), 300.0)
+
+
+# The animated scenes' references: scene → [(suffix, frame, shutter in frames)], written to
+# reference-<suffix>.exr. A shutter s is Blender's motion blur at position START with shutter s,
+# which is mcctrace's `--shutter 0..s` (README, "Animation").
+ANIMATED = {
+    "skinned_rig": [("f6", 6, 0.0), ("f12", 12, 0.0), ("f20", 20, 0.0)],
+    "shape_keys": [("f7", 7, 0.0)],
+    "deforming_blur": [("f2", 2, 0.5)],
+    "rigid_blur": [("f6", 6, 0.5)],
+}
+
+
 # KHR_materials_volume added to a material of the exported file: scene → (material, extension).
 VOLUME_PATCHES = {
     "absorbing_glass": ("glass", {"thicknessFactor": 1.0, "attenuationDistance": 0.5,
@@ -402,22 +558,26 @@ def main():
         path = author(name)
         if a.no_render:
             continue
-        scene = peer.import_scene(path, "camera")
-        peer.one_sided_emission(path)
-        peer.configure(scene, SIZE, a.spp, DEPTH, 0, 2)
-        out = os.path.join(DATA, name, "reference.exr")
-        seconds = peer.render(scene, out)
-        ref = peer.load_rgb(out)
-        est = float("nan")
-        if a.noise:
-            scene.cycles.samples = a.spp // 4
-            scene.cycles.seed = 1
-            second = os.path.join(DATA, name, "noise.exr")
-            peer.render(scene, second)
-            est = peer.noise_of(ref, peer.load_rgb(second), a.spp, a.spp // 4)
-            os.remove(second)
-        print(f"{name}: {a.spp} spp in {seconds:.1f} s, estimated relMSE {est:.2e}, means {ref.mean(axis=(0, 1))}")
-        noise.append((name, a.spp, seconds, est))
+        for suffix, frame, shutter in ANIMATED.get(name, [("", None, 0.0)]):
+            scene = peer.import_scene(path, "camera")
+            peer.one_sided_emission(path)
+            peer.configure(scene, SIZE, a.spp, DEPTH, 0, 2)
+            if frame is not None:
+                peer.at_frame(scene, frame, shutter)
+            out = os.path.join(DATA, name, f"reference-{suffix}.exr" if suffix else "reference.exr")
+            seconds = peer.render(scene, out)
+            ref = peer.load_rgb(out)
+            label = f"{name} {suffix}".strip()
+            est = float("nan")
+            if a.noise:
+                scene.cycles.samples = a.spp // 4
+                scene.cycles.seed = 1
+                second = os.path.join(DATA, name, "noise.exr")
+                peer.render(scene, second)
+                est = peer.noise_of(ref, peer.load_rgb(second), a.spp, a.spp // 4)
+                os.remove(second)
+            print(f"{label}: {a.spp} spp in {seconds:.1f} s, estimated relMSE {est:.2e}, means {ref.mean(axis=(0, 1))}")
+            noise.append((label.replace(" ", "@"), a.spp, seconds, est))
     if noise:
         with open(os.path.join(DATA, "references.csv"), "a", encoding="utf-8") as f:
             # name, spp, seconds, estimated relMSE of the reference (nan without --noise)

@@ -2,7 +2,7 @@
 //! ready ray file) and render the scene with one ray per pixel from it, at any output
 //! resolution; with `--tile I/N`, one band of it (docs/farm.md), skipped when already finished.
 
-use crate::args::RayFormatArg;
+use crate::args::{RayFormatArg, Shutter};
 use crate::progress::Bars;
 use crate::setup::collage::{CollageInputArgs, remap};
 use crate::setup::output::{create_parent, summary, warn_nonfinite};
@@ -33,6 +33,11 @@ pub struct RerenderArgs {
     /// Frames per second: the scene time of frame F is F / FPS seconds.
     #[arg(long, default_value_t = SceneSetup::DEFAULT_FPS)]
     pub fps: f32,
+    /// Motion blur of what moves in an animated scene, as `render --shutter`: the shutter is
+    /// open from OPEN to CLOSE frames after the frame's start (0 ≤ OPEN ≤ CLOSE ≤ 1); moving
+    /// meshes are sampled at 3 motion steps over it and interpolated to each ray's time.
+    #[arg(long, value_name = "OPEN..CLOSE")]
+    pub shutter: Option<Shutter>,
     /// Drop an N-pixel border (in collage pixels) rendered with `render --overscan N`; --res is
     /// then the size of what is left.
     #[arg(long, default_value_t = 0, value_name = "N")]
@@ -75,7 +80,7 @@ pub fn render_through(
         bail!("--crop {} leaves nothing of a {}x{} image", job.crop, size.x, size.y);
     }
     let loaded = load_scene(scene, setup, quiet)?;
-    let posed = at_frame(setup, loaded, job.frame, (0.0, 0.0), quiet)?;
+    let posed = at_frame(setup, loaded, job.frame, job.shutter, quiet)?;
     let tracer = job.quality.tracer(&posed)?;
     let rendered = with_threads(threads, || job.run(&tracer, &Bars::new(quiet)))??;
     warn_nonfinite("rerender", &rendered);
@@ -109,6 +114,7 @@ pub fn run(a: RerenderArgs) -> anyhow::Result<()> {
     let job = Rerender {
         resolution: q.res.map(|r| r.0),
         crop: a.crop,
+        shutter: a.shutter.map_or((0.0, 0.0), |s| (s.open, s.close)),
         quality: q.quality(),
         environment_map: q.scene_setup(a.fps)?.environment_image,
         setup: Some(q.scene_setup(a.fps)?),

@@ -1,4 +1,4 @@
-// The final render (docs/studio.md, "The page"): its size and spp, the Render and Cancel buttons,
+// The final render (docs/studio.md, "The page"): its size, spp and shutter, the Render and Cancel buttons,
 // the progress bar, and the render itself, shown from the server's own PNG bytes (never
 // re-encoded) with a link to download it.
 import { $, note } from './dom.js';
@@ -15,10 +15,17 @@ export const shownBytes = () => finalBytes;
 on($('render-final'), 'click', () => {
   const w = parseInt($('final-w').value, 10), h = parseInt($('final-h').value, 10), spp = parseInt($('final-spp').value, 10);
   if (!(w > 0 && h > 0 && spp > 0)) { note('render final: size and spp must be positive whole numbers', true); return; }
+  const text = $('final-shutter').value.trim();
+  const request = { type: 'render_final', res: [w, h], spp };
+  if (text !== '') {
+    const m = /^([0-9.]+)\s*\.\.=?\s*([0-9.]+)$/.exec(text);
+    if (!m) { note(`render final: shutter '${text}' is not OPEN..CLOSE (like 0..0.5)`, true); return; }
+    request.shutter = [parseFloat(m[1]), parseFloat(m[2])];
+  }
   $('final-progress').value = 0;
   $('render-final').disabled = true;
   $('cancel-final').disabled = false;
-  finalId = send({ type: 'render_final', res: [w, h], spp });
+  finalId = send(request);
 });
 on($('cancel-final'), 'click', () => send({ type: 'cancel_final' }));
 

@@ -107,6 +107,10 @@ pub enum Request {
         res: [u32; 2],
         /// Samples per pixel.
         spp: u32,
+        /// Motion blur, as `rerender --shutter OPEN..CLOSE`: \[open, close\] in frames after the
+        /// key's frame (0 ≤ open ≤ close ≤ 1); absent: none.
+        #[serde(default)]
+        shutter: Option<[f32; 2]>,
     },
     /// Stop the final render.
     CancelFinal,

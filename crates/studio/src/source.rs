@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 use tracer::integrator::PathTracer;
 use tracer::job::{Quality, SceneSetup};
-use tracer::scene::{CameraSelector, Scene};
+use tracer::scene::{CameraSelector, DEFAULT_MOTION_STEPS, Scene};
 
 /// The scene file, loaded, and which of its cameras the studio starts with.
 pub struct SceneSource {
@@ -46,6 +46,20 @@ impl SceneSource {
     /// The scene at `frame` prepared for tracing with `quality`'s depths.
     pub fn tracer(&self, frame: u32, quality: &Quality) -> Result<Arc<PathTracer>> {
         Ok(Arc::new(quality.tracer(&self.posed(frame)?)?))
+    }
+
+    /// The scene at `frame` with its moving geometry in motion over `shutter` (frames after
+    /// the frame's start, at the default motion steps), prepared for tracing with `quality`'s
+    /// depths: what `rerender --shutter` traces.
+    pub fn tracer_in_shutter(
+        &self,
+        frame: u32,
+        shutter: (f32, f32),
+        quality: &Quality,
+    ) -> Result<Arc<PathTracer>> {
+        let scene =
+            self.setup.at_frame_in_shutter(self.scene.clone(), frame, shutter, DEFAULT_MOTION_STEPS)?;
+        Ok(Arc::new(quality.tracer(&scene)?))
     }
 
     /// The starting cameras of a key at `frame`, numbered from 1.

@@ -21,6 +21,7 @@ use crate::ray_file::{RayFile, RayFormat};
 use glam::UVec2;
 use std::ops::RangeInclusive;
 use std::path::{Path, PathBuf};
+use tracer::integrator::PathTracer;
 use tracer::job::{
     CameraRender, Provenance, Quality, RenderInfo, SceneSetup, Stale, check_finished, write_render,
 };
@@ -228,8 +229,11 @@ impl Animate {
         let base = self.setup.load(&self.scene)?;
         progress.event(AnimateEvent::Loaded { warnings: &base.warnings });
         let quality = self.quality;
-        // A static scene gets one BVH for the whole run; an animated one is posed per frame.
+        // A static scene gets one BVH for the whole run; an animated one is posed per frame and
+        // the previous frame's BVH refitted to it (`PathTracer::reposed`: the same bits as a
+        // fresh build, so a resumed shot matches a continuous run).
         let still = if base.animation.is_none() { Some(quality.tracer(&base)?) } else { None };
+        let mut previous: Option<PathTracer> = None;
         let camera = carrier_camera(self.framing.film)?;
         let mut earlier: Option<FrameRays> = None;
         let mut sharp = Vec::new();
@@ -246,7 +250,6 @@ impl Animate {
                 .with_frame(frame, rays.current.clone(), rays.next.clone());
             let mut lenses = LensChain::new();
             lenses.push(Box::new(reader));
-            let posed;
             let tracer = match &still {
                 Some(t) => t,
                 None => {
@@ -265,8 +268,11 @@ impl Animate {
                             told.push(w.clone());
                         }
                     }
-                    posed = quality.tracer(&scene)?;
-                    &posed
+                    let tracer = match previous.take() {
+                        Some(tracer) => tracer.reposed(&scene)?,
+                        None => quality.tracer(&scene)?,
+                    };
+                    &*previous.insert(tracer)
                 }
             };
             let name = format!("frame {frame}");

@@ -171,6 +171,10 @@ pub struct Rerender {
     pub crop: u32,
     /// The frame (passed to the lens reader; names the output).
     pub frame: u32,
+    /// When the shutter opens and closes, in frames after the frame's start: each ray gets a
+    /// time in it, and the scene's moving geometry (posed in motion over it by the caller:
+    /// `SceneSetup::at_frame_in_shutter`) is seen at that time; `(0, 0)`: none.
+    pub shutter: (f32, f32),
     /// Samples, seed, depths and film layers.
     pub quality: Quality,
     /// Where the rays came from, as the EXR header records it: ([`COLLAGE_KEY`] or
@@ -192,6 +196,7 @@ impl Rerender {
             resolution: None,
             crop: 0,
             frame,
+            shutter: (0.0, 0.0),
             quality: Quality::DEFAULT,
             rays_from: None,
             environment_map: None,
@@ -258,7 +263,7 @@ impl Rerender {
             name: "rerender",
             camera_id: 0,
             frame: self.frame,
-            shutter: (0.0, 0.0),
+            shutter: self.shutter,
             quality: self.quality,
         };
         Ok(match self.band {
@@ -285,6 +290,7 @@ impl Rerender {
             setup: self.setup.as_ref(),
             crop: self.crop,
             band: self.band.map(|b| (b, output)),
+            shutter: self.shutter,
             ..RenderInfo::new(scene, CAMERA, self.frame, &self.quality)
         }
     }

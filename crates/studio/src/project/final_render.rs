@@ -51,11 +51,25 @@ impl Progress for FinalProgress<'_> {
     }
 }
 
-/// Starts the final render at `res` and `spp` on a thread of its own; refuses a second one.
-pub fn start_final(shared: &Arc<Shared>, id: Option<u64>, res: [u32; 2], spp: u32) -> Result<()> {
+/// Starts the final render at `res` and `spp`, the shutter open over `shutter` (frames after
+/// the key's frame; `(0, 0)`: none), on a thread of its own; refuses a second one.
+pub fn start_final(
+    shared: &Arc<Shared>,
+    id: Option<u64>,
+    res: [u32; 2],
+    spp: u32,
+    shutter: (f32, f32),
+) -> Result<()> {
     super::check_res(res)?;
     if spp == 0 || spp > 65536 {
         return Err(StudioError::request(format!("spp {spp}: give 1 to 65536 samples per pixel")));
+    }
+    let (open, close) = shutter;
+    // `rerender --shutter`'s rule: the lens reader's camera rays span one frame at most.
+    if !((0.0..=1.0).contains(&open) && (0.0..=1.0).contains(&close) && open <= close) {
+        return Err(StudioError::request(format!(
+            "shutter [{open}, {close}]: need 0 ≤ open ≤ close ≤ 1 (fractions of a frame)"
+        )));
     }
     if shared.final_running.swap(true, Ordering::SeqCst) {
         return Err(StudioError::request("a final render is already running"));
@@ -63,7 +77,7 @@ pub fn start_final(shared: &Arc<Shared>, id: Option<u64>, res: [u32; 2], spp: u3
     shared.final_cancel.store(false, Ordering::SeqCst);
     let shared = Arc::clone(shared);
     std::thread::spawn(move || {
-        let reply = match shared.pool.install(|| render_final(&shared, res, spp)) {
+        let reply = match shared.pool.install(|| render_final(&shared, res, spp, shutter)) {
             Ok((exr, image)) => {
                 let header = ImageHeader {
                     kind: ImageKind::Final,
@@ -90,8 +104,13 @@ pub fn start_final(shared: &Arc<Shared>, id: Option<u64>, res: [u32; 2], spp: u3
 }
 
 /// Saves, remaps the saved collage, rerenders and writes `final/rerender-frameFFFF.exr` (+ PNG,
-/// + the rays), as `rerender --out final/rerender-frameFFFF.exr` does.
-pub fn render_final(shared: &Shared, res: [u32; 2], spp: u32) -> Result<(PathBuf, tracer::image::RgbImage)> {
+/// + the rays), as `rerender --out final/rerender-frameFFFF.exr [--shutter OPEN..CLOSE]` does.
+pub fn render_final(
+    shared: &Shared,
+    res: [u32; 2],
+    spp: u32,
+    shutter: (f32, f32),
+) -> Result<(PathBuf, tracer::image::RgbImage)> {
     let dir = save(shared)?;
     let (frame, seamless) = {
         let s = shared.session();
@@ -111,9 +130,10 @@ pub fn render_final(shared: &Shared, res: [u32; 2], spp: u32) -> Result<(PathBuf
         // The scene's setup (frame rate, overrides) goes in the header as `rerender` records it.
         environment_map: shared.source.setup.environment_image.clone(),
         setup: Some(shared.source.setup.clone()),
+        shutter,
         ..Rerender::new(remapped.output.rays.clone(), frame)
     };
-    let tracer = shared.source.tracer(frame, &quality)?;
+    let tracer = shared.source.tracer_in_shutter(frame, shutter, &quality)?;
     let progress =
         FinalProgress { shared, total: AtomicU64::new(0), done: AtomicU64::new(0), sent: AtomicU64::new(0) };
     let rendered = rerender.run(&tracer, &progress)?;

@@ -64,9 +64,10 @@ fn run(shared: &Arc<Shared>, id: Option<u64>, request: Request) -> Result<Vec<Ou
             let dir = crate::project::save(shared)?;
             return Ok(vec![Outbound::json(json!({"type": "saved", "id": id, "dir": dir}))]);
         }
-        Request::RenderFinal { res, spp } => {
+        Request::RenderFinal { res, spp, shutter } => {
             drop(session);
-            crate::project::start_final(shared, id, res, spp)?;
+            let shutter = shutter.map_or((0.0, 0.0), |[open, close]| (open, close));
+            crate::project::start_final(shared, id, res, spp, shutter)?;
             return Ok(Vec::new());
         }
         Request::CancelFinal => {

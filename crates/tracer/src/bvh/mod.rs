@@ -139,6 +139,11 @@ enum Walk {
     Overflow,
 }
 
+/// How far past the best hit so far a closest-hit walk keeps looking, as a factor: far enough
+/// that a triangle whose rounded distance equals it passes the triangle test's range check
+/// (which compares unrounded, scaled distances), so ties are broken by triangle index.
+const TIE_RANGE: f32 = 1.0 + 4.0 * f32::EPSILON;
+
 /// Entries of the traversal stack: each level of the tree adds at most seven, so this holds
 /// trees 36 levels deep (an 8-wide tree over 2^32 triangles needs about 11).
 const STACK: usize = 256;
@@ -372,13 +377,20 @@ impl Bvh {
         // (docs/performance.md, ledger: "closest hit in scalars").
         let (mut best_slot, mut best_id) = (u32::MAX, 0);
         let (mut t, mut b0, mut b1, mut b2) = (0.0, 0.0, 0.0, 0.0);
+        // Hits at exactly the same distance (coincident triangles, a ray through a shared edge)
+        // go to the lowest mesh triangle, whichever the walk meets first: the answer is then
+        // the tree's shape's business no more, so a refitted tree answers as a fresh one
+        // (`animate` refits per frame, and a resumed shot must keep a continuous run's bits).
+        // The range stays open a hair past the best hit so that a tie is still tested (the
+        // triangle test's range check is on the unrounded distance).
         let mut on_hit = |slot: u32, id: u32, h: TriangleHit| {
-            if accept(id, h.b) {
+            let better = best_slot == u32::MAX || h.t < t || (h.t == t && id < best_id);
+            if better && accept(id, h.b) {
                 best_slot = slot;
                 best_id = id;
                 t = h.t;
                 [b0, b1, b2] = h.b;
-                Step::Closer(h.t)
+                Step::Closer(h.t * TIE_RANGE)
             } else {
                 Step::Miss
             }

@@ -149,11 +149,32 @@ pub struct PathTracer {
     /// 1 / `config.split`: the weight of each branch continued from a first hit (exactly 1
     /// without splitting, so a multiply by it changes no bit).
     branch_weight: f32,
+    /// The BVH was refitted from another pose's ([`PathTracer::reposed`]).
+    refitted: bool,
 }
 
 impl PathTracer {
     /// Prepares `scene` (validated again here: NaN geometry never reaches the BVH).
     pub fn new(scene: &Scene, config: IntegratorConfig) -> Result<Self> {
+        Self::prepare(scene, config, None)
+    }
+
+    /// Prepares `scene`, another pose of the scene this tracer was prepared for (the next
+    /// frame of a shot), with the same configuration: this tracer's BVH is refitted to it
+    /// ([`Bvh::refit`]) instead of built afresh when both have the same triangles and nothing
+    /// moves within a shutter; else it is built. The renders are the same bits either way
+    /// (closest hits break ties by triangle index, not by the tree's shape).
+    pub fn reposed(self, scene: &Scene) -> Result<Self> {
+        let config = self.config;
+        Self::prepare(scene, config, Some(self.bvh))
+    }
+
+    /// Whether the BVH was refitted rather than built (by [`PathTracer::reposed`]).
+    pub fn refitted(&self) -> bool {
+        self.refitted
+    }
+
+    fn prepare(scene: &Scene, config: IntegratorConfig, previous: Option<Bvh>) -> Result<Self> {
         scene.validate()?;
         if config.max_depth == 0 {
             return Err(TracerError::Settings("max depth must be at least 1".into()));
@@ -189,21 +210,23 @@ impl PathTracer {
                 Frame::from_z((v1 - v0).cross(v2 - v0).normalize_or(Vec3::Z))
             })
             .collect();
-        // Triangles that move within the shutter go in the BVH's motion tree, but for emitters:
-        // light sampling places them where the mesh has them (`Scene::in_motion` warns).
+        // Triangles that move within the shutter go in the BVH's motion tree, emitters too: light
+        // sampling places them where the ray's time has them (`light::motion`).
         let moving = scene.motion.as_deref().and_then(|motion| {
-            let mut moving = motion.moving_triangles(mesh);
-            for (m, &id) in moving.iter_mut().zip(&mesh.material_ids) {
-                *m &= !scene.materials[id as usize].is_emissive();
-            }
+            let moving = motion.moving_triangles(mesh);
             moving.contains(&true).then_some((motion, moving))
         });
-        let bvh = match &moving {
-            Some((motion, moving)) => {
+        let mut refitted = false;
+        let bvh = match (&moving, previous) {
+            (Some((motion, moving)), _) => {
                 attributes.gather_motion(mesh, &motion.normals);
                 Bvh::build_moving(mesh, motion, moving)
             }
-            None => Bvh::build(mesh),
+            (None, Some(mut bvh)) => {
+                refitted = bvh.refit(mesh);
+                if refitted { bvh } else { Bvh::build(mesh) }
+            }
+            (None, None) => Bvh::build(mesh),
         };
         Ok(Self {
             bvh,
@@ -219,6 +242,7 @@ impl PathTracer {
             environment: scene.environment.color,
             config,
             branch_weight: 1.0 / config.split as f32,
+            refitted,
         })
     }
 

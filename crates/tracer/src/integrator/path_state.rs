@@ -249,8 +249,14 @@ impl PathState {
             if self.depth == 0 || self.specular {
                 out.radiance += self.beta * sp.emission;
             } else {
-                let light_pdf =
-                    tracer.lights.pdf_triangle(self.prev_p, self.prev_n, hit.triangle, hit.t, ray.direction);
+                let light_pdf = tracer.lights.pdf_triangle(
+                    self.prev_p,
+                    self.prev_n,
+                    hit.triangle,
+                    hit.t,
+                    ray.direction,
+                    ray.time,
+                );
                 out.radiance += self.beta * sp.emission * power_heuristic(self.prev_pdf, light_pdf);
             }
         }
@@ -379,9 +385,9 @@ impl PathState {
     ) {
         let si = &v.si;
         let ls = if LAMBERT {
-            tracer.lights.sample_triangles(si.p, bsdf.geometric_normal(), self.u_light)
+            tracer.lights.sample_triangles(si.p, bsdf.geometric_normal(), self.u_light, self.ray.time)
         } else {
-            tracer.lights.sample(si.p, bsdf.geometric_normal(), self.u_light)
+            tracer.lights.sample(si.p, bsdf.geometric_normal(), self.u_light, self.ray.time)
         };
         let Some(ls) = ls else { return };
         let (f, bsdf_pdf) = bsdf.eval(ls.wi);

@@ -4,11 +4,14 @@
 //! receiver's position and normal (`bounds.rs`); directional lights and the environment image,
 //! which no box holds, are chosen beside the tree, each as likely as the whole tree (pbrt-v4
 //! `BVHLightSampler`). The probability of choosing an emissive triangle or an environment
-//! direction is also what MIS needs when a BSDF-sampled ray reaches them.
+//! direction is also what MIS needs when a BSDF-sampled ray reaches them. An emissive triangle
+//! that moves within the shutter is sampled, and its density evaluated, where it is at the
+//! ray's time (`motion.rs`).
 
 mod bounds;
 mod distribution;
 mod environment;
+mod motion;
 mod point;
 mod spot;
 mod tree;
@@ -112,6 +115,8 @@ pub struct LightSampler {
     /// triangle emits.
     light_of_triangle: Vec<u32>,
     environment: Option<EnvironmentLight>,
+    /// The emissive triangles that move within the shutter, if any.
+    motion: Option<motion::LightMotion>,
 }
 
 impl LightSampler {
@@ -138,6 +143,25 @@ impl LightSampler {
                     light_of_triangle[t] = lights.len() as u32;
                     bounds.push(tri.bounds());
                     lights.push(Light::Triangle(tri));
+                }
+            }
+        }
+        // Moving emitters are bounded over the whole shutter, so that the tree's choice (a
+        // function of the receiver alone) never rules one out where it lights at some time.
+        let motion = scene.motion.as_deref().and_then(|m| {
+            let triangles: Vec<Option<u32>> = lights
+                .iter()
+                .map(|l| match l {
+                    Light::Triangle(t) => Some(t.triangle),
+                    _ => None,
+                })
+                .collect();
+            motion::LightMotion::new(&scene.mesh, m, &triangles)
+        });
+        if let Some(m) = &motion {
+            for (i, light) in lights.iter().enumerate() {
+                if let (true, Light::Triangle(t)) = (m.moves(i), light) {
+                    bounds[i] = m.bounds(i, t);
                 }
             }
         }
@@ -179,6 +203,7 @@ impl LightSampler {
             by_power: None,
             light_of_triangle,
             environment,
+            motion,
         };
         // One flat emitter (the Cornell box's light): every receiver sees all of it from the
         // same side, so the tree's bounds tell its triangles apart by distance alone, which
@@ -253,9 +278,10 @@ impl LightSampler {
     }
 
     /// Chooses a light and a point on it for a receiver at `p_ref` whose light arrives in the
-    /// hemisphere around unit `n`; `u` is a stratified 2-D number (u.x also chooses the light).
+    /// hemisphere around unit `n`, for a shadow ray at ray time `time` (a moving emitter is
+    /// sampled where it is then); `u` is a stratified 2-D number (u.x also chooses the light).
     #[inline(always)]
-    pub fn sample(&self, p_ref: Vec3, n: Vec3, u: Vec2) -> Option<LightSample> {
+    pub fn sample(&self, p_ref: Vec3, n: Vec3, u: Vec2, time: f32) -> Option<LightSample> {
         let (i, p_select, ux) = self.choose(p_ref, n, u.x)?;
         let u = Vec2::new(ux, u.y);
         let point = |position: Vec3, intensity: Vec3| {
@@ -268,7 +294,7 @@ impl LightSampler {
             })
         };
         match &self.lights[i] {
-            Light::Triangle(tri) => triangle_sample(tri, p_select, p_ref, u),
+            Light::Triangle(tri) => self.triangle_sample(i, tri, p_select, p_ref, u, time),
             Light::Point(pl) => {
                 let (wi, li, target) = point(pl.position, pl.intensity)?;
                 Some(LightSample { wi, li, pdf: p_select, is_delta: true, target, emitter: None })
@@ -311,10 +337,10 @@ impl LightSampler {
     /// ([`LightSampler::triangles_only`]): the same sample, bit for bit, without the dispatch
     /// on the kind of light.
     #[inline(always)]
-    pub fn sample_triangles(&self, p_ref: Vec3, n: Vec3, u: Vec2) -> Option<LightSample> {
+    pub fn sample_triangles(&self, p_ref: Vec3, n: Vec3, u: Vec2, time: f32) -> Option<LightSample> {
         let (i, p_select, ux) = self.choose(p_ref, n, u.x)?;
         match &self.lights[i] {
-            Light::Triangle(tri) => triangle_sample(tri, p_select, p_ref, Vec2::new(ux, u.y)),
+            Light::Triangle(tri) => self.triangle_sample(i, tri, p_select, p_ref, Vec2::new(ux, u.y), time),
             _ => {
                 debug_assert!(false, "sample_triangles on a sampler with other lights");
                 None
@@ -328,10 +354,10 @@ impl LightSampler {
     }
 
     /// For MIS: the density with which [`LightSampler::sample`], for a receiver at `p_ref` with
-    /// normal `n`, would have produced the point of mesh triangle `triangle` seen `dist` away
-    /// along `wi` (0 if it is not a light).
+    /// normal `n` and a ray at time `time`, would have produced the point of mesh triangle
+    /// `triangle` seen `dist` away along `wi` (0 if it is not a light).
     #[inline]
-    pub fn pdf_triangle(&self, p_ref: Vec3, n: Vec3, triangle: u32, dist: f32, wi: Vec3) -> f32 {
+    pub fn pdf_triangle(&self, p_ref: Vec3, n: Vec3, triangle: u32, dist: f32, wi: Vec3, time: f32) -> f32 {
         let Some(&i) = self.light_of_triangle.get(triangle as usize) else { return 0.0 };
         if i == u32::MAX {
             return 0.0;
@@ -342,7 +368,30 @@ impl LightSampler {
             (None, Some(tree)) => tree.pmf(p_ref, n, i) * (1.0 - self.p_infinite),
             (None, None) => return 0.0,
         };
-        tri.pdf_solid_angle(dist, wi) * pmf
+        match &self.motion {
+            Some(m) if m.moves(i as usize) => {
+                m.at(i as usize, tri, time).map_or(0.0, |moved| moved.pdf_solid_angle(dist, wi) * pmf)
+            }
+            _ => tri.pdf_solid_angle(dist, wi) * pmf,
+        }
+    }
+
+    /// A sample of triangle light `i` (`tri` at the frame's pose), chosen with probability
+    /// `p_select`, seen from `p_ref` by a shadow ray at time `time`.
+    #[inline(always)]
+    fn triangle_sample(
+        &self,
+        i: usize,
+        tri: &EmissiveTriangle,
+        p_select: f32,
+        p_ref: Vec3,
+        u: Vec2,
+        time: f32,
+    ) -> Option<LightSample> {
+        match &self.motion {
+            Some(m) if m.moves(i) => triangle_sample(&m.at(i, tri, time)?, p_select, p_ref, u),
+            _ => triangle_sample(tri, p_select, p_ref, u),
+        }
     }
 
     /// For MIS: the density with which [`LightSampler::sample`] would have chosen direction

@@ -124,18 +124,7 @@ impl Scene {
             }
         }
         motion.validate(&self.mesh).map_err(|m| TracerError::scene(&self.path, m))?;
-        let moving = motion.moving_triangles(&self.mesh);
-        let emissive = |t: usize| {
-            self.materials.get(self.mesh.material_ids[t] as usize).is_some_and(|m| m.is_emissive())
-        };
-        if let Some(t) = (0..moving.len()).find(|&t| moving[t] && emissive(t)) {
-            self.warnings.push(format!(
-                "{}: emissive surfaces move within the shutter (triangle {t} the first); they are lit and drawn \
-                 where the frame's pose has them, without motion blur",
-                self.path.display()
-            ));
-        }
-        if moving.contains(&true) {
+        if motion.moving_triangles(&self.mesh).contains(&true) {
             self.motion = Some(Arc::new(motion));
         }
         Ok(self)

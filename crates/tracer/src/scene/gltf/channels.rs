@@ -70,10 +70,14 @@ pub(super) fn read(
     // earlier animation): one line per pair of clips, not one per channel.
     let mut overlaps: BTreeMap<(usize, usize), Vec<String>> = BTreeMap::new();
     let mut labels = Vec::new();
+    // Per animation, its channels on rendered nodes (a clip whose every one of them an earlier
+    // clip animates is an alternative take of the same model, not a mistake).
+    let mut targeted: Vec<usize> = Vec::new();
     let mut matrix_warned = vec![false; rig.nodes.len()];
     for (a, anim) in doc.as_json().animations.iter().enumerate() {
         let name = animation_label(a, anim.name.as_deref());
         labels.push(name.clone());
+        targeted.push(0);
         for (c, json) in anim.channels.iter().enumerate() {
             let node = json.target.node.value();
             let node_name = doc.nodes().nth(node).map_or_else(|| format!("node {node}"), |n| node_label(&n));
@@ -104,6 +108,7 @@ pub(super) fn read(
             let (input, output) = (accessor_at(sampler.input.value())?, accessor_at(sampler.output.value())?);
             let times = accessor::read_times(&input, buffers).map_err(fail)?;
             let target = rig_node_of.get(node).copied().flatten();
+            targeted[a] += usize::from(target.is_some());
             if property == Property::Weights(0) {
                 // One channel per group of four weights, each checked and sampled like the rest.
                 let count = target.and_then(|t| rig.nodes.get(t)).map_or(0, |n| n.weights.len());
@@ -179,7 +184,17 @@ pub(super) fn read(
             channels.push(channel);
         }
     }
+    // Clips wholly over what earlier clips animate (the Khronos Fox's Survey, Walk and Run):
+    // the file's first plays, as Blender's importer makes the first its active action, and the
+    // others are takes to choose from, not a mistake to warn of.
+    let mut overlapped = vec![0usize; labels.len()];
+    for ((a, _), lines) in &overlaps {
+        overlapped[*a] += lines.len();
+    }
     for ((a, first), mut lines) in overlaps {
+        if overlapped[a] == targeted[a] {
+            continue;
+        }
         if lines.len() == 1 {
             warnings.append(&mut lines);
         } else {

@@ -336,6 +336,19 @@ fn scene_animation_warnings_for_what_is_ignored() {
     let scene = load_json(&dir, "weights.gltf", &only_weights).unwrap();
     assert!(scene.animation.is_none());
     assert!(scene.warnings.join("\n").contains("the node's mesh has no morph targets; ignored"));
+
+    // Alternative takes (the Khronos Fox's Survey, Walk, Run): a later clip animating only what
+    // the first animates is not played and not warned of; the first plays.
+    let mut takes = doc.clone();
+    let turn = |sampler: u32| json!({"sampler": sampler, "target": {"node": 0, "path": "rotation"}});
+    takes["nodes"][0] = json!({"name": "boxed", "mesh": 0});
+    takes["animations"] = json!([
+        {"name": "first", "channels": [turn(0)], "samplers": [{"input": t, "output": rot}]},
+        {"name": "second", "channels": [turn(0)], "samplers": [{"input": t, "output": rot}]},
+    ]);
+    let scene = load_json(&dir, "takes.gltf", &takes).unwrap();
+    assert_only_bounds_warnings(&scene);
+    assert_eq!(scene.animation.as_ref().unwrap().channel_count(), 1);
 }
 
 #[test]
