@@ -161,4 +161,5 @@ parity!(
     coat,
     rough_glass,
     absorbing_glass,
+    anisotropy,
 );
