@@ -542,7 +542,7 @@ impl Loader<'_> {
         let n = positions.len();
         let fits = uvs.len() == n
             && normals.is_none_or(|v| v.len() == n)
-            && indices.len() % 3 == 0
+            && indices.len().is_multiple_of(3)
             && indices.iter().all(|&i| (i as usize) < n);
         fits.then(|| tangents::mikktspace(positions, normals, uvs, indices))
     }
