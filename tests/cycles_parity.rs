@@ -273,4 +273,5 @@ parity!(
     rough_glass,
     absorbing_glass,
     sheen,
+    anisotropy,
 );

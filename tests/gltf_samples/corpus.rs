@@ -18,7 +18,7 @@ const REFUSED: [&str; 1] = ["KHR_draco_mesh_compression"];
 
 /// What a loaded sample may still be told is not supported (docs/cycles.md lists each with its
 /// reason): the material extensions not yet rendered.
-const NOT_YET: [&str; 2] = ["KHR_materials_anisotropy", "KHR_materials_variants"];
+const NOT_YET: [&str; 1] = ["KHR_materials_variants"];
 
 #[test]
 fn every_sample_model_renders_finite() {

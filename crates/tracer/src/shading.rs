@@ -49,6 +49,11 @@ pub struct ShadingPoint {
     pub sheen: Vec3,
     /// Sheen roughness (factor × texture A).
     pub sheen_roughness: f32,
+    /// `KHR_materials_anisotropy` strength (factor × texture B); 0 without anisotropy.
+    pub anisotropy: f32,
+    /// The anisotropy direction (unit, perpendicular to `normal`): the tangent turned by the
+    /// rotation and the texture's direction; unused (zero) without anisotropy.
+    pub anisotropy_direction: Vec3,
 }
 
 impl ShadingPoint {
@@ -70,6 +75,8 @@ impl ShadingPoint {
             coat_normal: normal,
             sheen: material.sheen,
             sheen_roughness: material.sheen_roughness,
+            anisotropy: 0.0,
+            anisotropy_direction: Vec3::ZERO,
         }
     }
 }
@@ -136,6 +143,13 @@ pub fn evaluate(
             sheen_roughness *= r.eval(textures, uv).w;
         }
     }
+    let (anisotropy, anisotropy_direction) = match &material.anisotropy {
+        Some(a) => {
+            let texel = t.anisotropy.map(|r| r.eval(textures, uv).truncate());
+            anisotropic(a.strength, a.rotation, texel, normal, frame)
+        }
+        None => (0.0, Vec3::ZERO),
+    };
     ShadingPoint {
         base_color: base.truncate(),
         alpha: base.w.clamp(0.0, 1.0),
@@ -151,7 +165,52 @@ pub fn evaluate(
         coat_normal,
         sheen: sheen.max(Vec3::ZERO),
         sheen_roughness: sheen_roughness.clamp(0.0, 1.0),
+        anisotropy,
+        anisotropy_direction,
     }
+}
+
+/// The anisotropy strength and direction at a point with shading normal `n`
+/// (`KHR_materials_anisotropy`): the direction (cos r, sin r) in the tangent frame, turned
+/// further by the texel's RG direction (in [−1, 1]; (1, 0) when absent) and the strength scaled
+/// by its B. Where the tangent frame is degenerate the strength is 0: isotropic.
+#[inline]
+fn anisotropic(
+    strength: f32,
+    rotation: f32,
+    texel: Option<Vec3>,
+    n: Vec3,
+    frame: &TangentFrame,
+) -> (f32, Vec3) {
+    let (mut strength, mut direction) = (strength, Vec2::from_angle(rotation));
+    if let Some(t) = texel {
+        let d = Vec2::new(t.x, t.y) * 2.0 - Vec2::ONE;
+        direction = direction.rotate(d.normalize_or(Vec2::X));
+        strength *= t.z;
+    }
+    let Some((t, b)) = tangent_basis(n, frame) else { return (0.0, Vec3::ZERO) };
+    match (t * direction.x + b * direction.y).normalize_or_zero() {
+        d if d == Vec3::ZERO => (0.0, Vec3::ZERO),
+        d => (strength.clamp(0.0, 1.0), d),
+    }
+}
+
+/// The tangent and bitangent at a point with shading normal `n` (unit): the vertex tangent
+/// (else ∂p/∂u) made perpendicular to `n`, and cross(n, t) times the handedness (glTF's w, else
+/// from the texture coordinates: glTF's v runs down the image, so the bitangent follows −∂p/∂v).
+/// `None` where the tangent lies along `n`.
+#[inline]
+fn tangent_basis(n: Vec3, frame: &TangentFrame) -> Option<(Vec3, Vec3)> {
+    let (t, sign) = match frame.tangent {
+        Some(t) if t.truncate().length_squared() > 0.0 => (t.truncate(), if t.w < 0.0 { -1.0 } else { 1.0 }),
+        _ => {
+            let sign = if n.cross(frame.dpdu).dot(-frame.dpdv) < 0.0 { -1.0 } else { 1.0 };
+            (frame.dpdu, sign)
+        }
+    };
+    // Gram–Schmidt: the tangent in the shading normal's plane.
+    let t = (t - n * n.dot(t)).normalize_or_zero();
+    (t != Vec3::ZERO).then(|| (t, n.cross(t) * sign))
 }
 
 /// Coverage alone (for alpha tests during traversal): base colour alpha × texture alpha.
@@ -170,21 +229,7 @@ pub fn alpha(material: &Material, textures: &[Texture], uv: [Vec2; 2]) -> f32 {
 fn perturb(n: Vec3, texel: Vec3, scale: f32, frame: &TangentFrame) -> Vec3 {
     let m = texel * 2.0 - Vec3::ONE;
     let m = Vec3::new(m.x * scale, m.y * scale, m.z);
-    let (t, sign) = match frame.tangent {
-        Some(t) if t.truncate().length_squared() > 0.0 => (t.truncate(), if t.w < 0.0 { -1.0 } else { 1.0 }),
-        _ => {
-            // Derived from the texture coordinates: glTF's v runs down the image while the
-            // map's +Y (green) points up, so the bitangent is −∂p/∂v.
-            let sign = if n.cross(frame.dpdu).dot(-frame.dpdv) < 0.0 { -1.0 } else { 1.0 };
-            (frame.dpdu, sign)
-        }
-    };
-    // Gram–Schmidt: the tangent in the shading normal's plane.
-    let t = (t - n * n.dot(t)).normalize_or_zero();
-    if t == Vec3::ZERO {
-        return n;
-    }
-    let b = n.cross(t) * sign;
+    let Some((t, b)) = tangent_basis(n, frame) else { return n };
     (t * m.x + b * m.y + n * m.z).normalize_or(n)
 }
 

@@ -70,6 +70,15 @@ pub(super) fn facing(shading: Frame, ng: Vec3, wo: Vec3) -> (Frame, Vec3, Vec3) 
     (frame, ng, wo_local)
 }
 
+/// The frame of unit normal `n` whose x axis is `t` made perpendicular to it (an anisotropic
+/// lobe's direction kept on a raised normal); `Frame::from_z(n)` where `t` lies along `n`.
+fn around(n: Vec3, t: Vec3) -> Frame {
+    match (t - n * n.dot(t)).normalize_or_zero() {
+        x if x == Vec3::ZERO => Frame::from_z(n),
+        x => Frame { x, y: n.cross(x), z: n },
+    }
+}
+
 #[inline]
 fn schlick(f0: Vec3, cos: f32) -> Vec3 {
     let m = (1.0 - cos).clamp(0.0, 1.0);
@@ -88,7 +97,16 @@ impl Base {
         let base = p.base_color;
         let specular = p.specular;
         let layer = LayerFresnel::new(0.04 * p.specular_color, p.ior);
-        let ggx = Ggx::from_roughness(p.roughness);
+        // Anisotropic: α_x along the frame's x (the anisotropy direction); the compensation
+        // tables are read at the roughness of the mean α, √(α_x·α_y), as Cycles reads them.
+        let (ggx, ms_roughness) = if p.anisotropy > 0.0 {
+            let (ax, ay) = p.anisotropy_mapping.alphas(p.roughness, p.anisotropy);
+            let ggx = Ggx::anisotropic(ax, ay);
+            let (ax, ay) = ggx.alphas();
+            (ggx, (ax * ay).sqrt().sqrt())
+        } else {
+            (Ggx::from_roughness(p.roughness), p.roughness)
+        };
 
         let diffuse = (1.0 - m) * base * FRAC_1_PI;
         let dielectric_weight = (1.0 - m) * specular;
@@ -97,7 +115,7 @@ impl Base {
             None
         } else {
             raised_normal::raised(ng, wo, frame.z).map(|n| {
-                let f = Frame::from_z(n);
+                let f = if ggx.is_anisotropic() { around(n, frame.x) } else { Frame::from_z(n) };
                 let mut wo_s = f.to_local(wo);
                 wo_s.z = wo_s.z.max(1e-6);
                 (f, wo_s)
@@ -115,11 +133,11 @@ impl Base {
             if w_spec + w_diff > 0.0 { (w_spec / (w_spec + w_diff)).clamp(0.0, 1.0) } else { 0.0 }
         };
         let (ms_dielectric, ms_metal, diffuse) = if p_specular > 0.0 {
-            let (ms_dielectric, layer_albedo) = compensation::dielectric(&layer, mu, p.roughness);
+            let (ms_dielectric, layer_albedo) = compensation::dielectric(&layer, mu, ms_roughness);
             // The base beneath the dielectric layer gets what the layer does not reflect for this
             // wo, as in Blender's Principled BSDF (docs/design/tracer.md §3.10).
             let beneath = (1.0 - specular * layer_albedo.max_element()).max(0.0);
-            (ms_dielectric, compensation::factor(base, mu, p.roughness), diffuse * beneath)
+            (ms_dielectric, compensation::factor(base, mu, ms_roughness), diffuse * beneath)
         } else {
             (Vec3::ONE, Vec3::ONE, diffuse)
         };

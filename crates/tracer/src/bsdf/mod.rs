@@ -34,7 +34,7 @@ pub mod rough_dielectric;
 pub mod sheen;
 mod sheen_table;
 
-use crate::material::Material;
+use crate::material::{AnisotropyMapping, Material};
 use crate::sampling::Frame;
 use base::Base;
 use coat::Coat;
@@ -69,6 +69,11 @@ pub struct BsdfParams {
     pub specular_color: Vec3,
     /// Index of refraction that shapes the dielectric layer's Fresnel curve.
     pub ior: f32,
+    /// `KHR_materials_anisotropy` strength (0: isotropic): the specular lobes' roughness
+    /// stretched along the shading frame's x axis, as `anisotropy_mapping` says.
+    pub anisotropy: f32,
+    /// How the strength stretches the roughness (the file's reading).
+    pub anisotropy_mapping: AnisotropyMapping,
 }
 
 impl BsdfParams {
@@ -90,6 +95,8 @@ impl BsdfParams {
             specular: material.specular,
             specular_color: material.specular_color,
             ior: material.ior,
+            anisotropy: material.anisotropy.map_or(0.0, |a| a.strength),
+            anisotropy_mapping: material.anisotropy.map_or_else(AnisotropyMapping::default, |a| a.mapping),
         }
     }
 
@@ -414,6 +421,85 @@ mod tests {
         }
         // No sheen, no layer.
         assert!(Bsdf::new(&material(1.0, 0.0, 1.0, 1.0), Vec3::Z, Vec3::Z, at(0.5)).sheen.is_none());
+    }
+
+    fn anisotropic(
+        base: f32,
+        metallic: f32,
+        roughness: f32,
+        strength: f32,
+        mapping: AnisotropyMapping,
+    ) -> Material {
+        let anisotropy = Some(crate::material::Anisotropy { strength, rotation: 0.0, mapping });
+        Material { anisotropy, ..material(base, metallic, roughness, 1.0) }
+    }
+
+    /// Furnace for the anisotropic base, never NaN at roughness 0 and 1 and between, strengths
+    /// up to 1, head-on and grazing, seen along and across the grain, in both readings. The
+    /// multiple-scattering compensation and the diffuse layer's share are read from the
+    /// isotropic tables at the mean α √(α_x·α_y), as Cycles reads them, which is exact head-on
+    /// and approximate at grazing views: a white metal never gains more than 3 % and keeps
+    /// 90 % in Blender's reading (it loses more where Cycles' bound α ≤ 1 cuts the stretched
+    /// α, and at the specification's longer stretches); a white
+    /// plastic keeps ≤ 1 within 2 % down to cos θo = 0.5, and gains seen grazing across the
+    /// grain (its smooth direction), where the diffuse layer gets what the mean-α table says
+    /// the dielectric leaves: 16 % at cos θo = 10⁻³ in Blender's reading (as in Cycles), 29 % in
+    /// the specification's longer stretches (a known limit, docs/cycles.md). Importance sampling agrees
+    /// with uniform sampling where the lobe is broad.
+    #[test]
+    fn anisotropic_furnace() {
+        for mapping in [AnisotropyMapping::Blender, AnisotropyMapping::Spec] {
+            for (roughness, strength) in [(0.0, 1.0), (0.3, 0.8), (0.5, 0.5), (1.0, 1.0), (0.6, 0.3)] {
+                let (ax, ay) = mapping.alphas(roughness, strength);
+                for cos_o in [1.0f32, 0.5, 0.1, 1e-3] {
+                    for phi in [0.0f32, 1.0, std::f32::consts::FRAC_PI_2] {
+                        let s = (1.0 - cos_o * cos_o).sqrt();
+                        let wo = Vec3::new(s * phi.cos(), s * phi.sin(), cos_o);
+                        let metal = anisotropic(1.0, 1.0, roughness, strength, mapping);
+                        let bsdf = Bsdf::new(&metal, Vec3::Z, Vec3::Z, wo);
+                        let (is, _) = albedo(&bsdf, 1 << 15);
+                        let what = format!("{mapping:?} r {roughness} s {strength} cos {cos_o} φ {phi}");
+                        assert!(is.is_finite() && is.max_element() <= 1.03, "{what}: {is}");
+                        // In Blender's reading (α_x / α_y ≤ 10, both ≤ 1) the compensation
+                        // restores nearly all; the specification's longer stretches (α_t 0.67
+                        // over α_b 0.09 loses 23 % head-on) are beyond what isotropic tables
+                        // restore: energy is lost there, never made.
+                        if mapping == AnisotropyMapping::Blender && ax.max(ay) <= 1.0 {
+                            assert!(is.min_element() >= 0.9, "{what}: {is}");
+                        }
+                        if ax.min(ay) >= 0.2 && cos_o > 0.05 {
+                            let (_, uni) = albedo(&bsdf, 1 << 18);
+                            assert!((is - uni).abs().max_element() < 0.03, "{what}: {is} vs {uni}");
+                        }
+                        let plastic = anisotropic(1.0, 0.0, roughness, strength, mapping);
+                        let (is, _) = albedo(&Bsdf::new(&plastic, Vec3::Z, Vec3::Z, wo), 1 << 14);
+                        assert!(is.is_finite(), "{what}: plastic {is}");
+                        if cos_o >= 0.5 {
+                            assert!(is.max_element() <= 1.02, "{what}: plastic {is}");
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// A material without anisotropy (or with strength 0) builds the isotropic base, bit for
+    /// bit; with it, the highlight of a light along the grain differs from one across it.
+    #[test]
+    fn anisotropy_zero_is_the_isotropic_base() {
+        let bits = |(f, p): (Vec3, f32)| (f.to_array().map(f32::to_bits), p.to_bits());
+        let wo = Vec3::new(0.5, 0.2, 0.8).normalize();
+        let plain = Bsdf::new(&material(0.7, 0.6, 0.4, 1.0), Vec3::Z, Vec3::Z, wo);
+        let zero = Bsdf::new(&anisotropic(0.7, 0.6, 0.4, 0.0, AnisotropyMapping::Spec), Vec3::Z, Vec3::Z, wo);
+        let strong =
+            Bsdf::new(&anisotropic(0.7, 0.6, 0.4, 0.9, AnisotropyMapping::Spec), Vec3::Z, Vec3::Z, wo);
+        let mut differ = 0;
+        for i in 0..256 {
+            let wi = crate::sampling::sample_uniform_sphere(Vec2::new(halton(i, 2), halton(i, 3)));
+            assert_eq!(bits(plain.eval(wi)), bits(zero.eval(wi)), "{wi}");
+            differ += usize::from(bits(plain.eval(wi)) != bits(strong.eval(wi)));
+        }
+        assert!(differ > 50, "{differ}");
     }
 
     /// Grazing views under a coat whose normal map tilts away from wo give finite values.

@@ -78,10 +78,21 @@ impl Vertex<'_> {
             specular: sp.specular,
             specular_color: sp.specular_color,
             ior: self.material.ior,
+            anisotropy: sp.anisotropy,
+            anisotropy_mapping: self.material.anisotropy.map_or_else(Default::default, |a| a.mapping),
         };
         // The hit's shading frame, unless a normal map moved the normal (then shadowed as Blender
         // does, docs/design/tracer.md §3.10).
-        let bsdf = if self.material.textures.normal.is_some() {
+        let bsdf = if sp.anisotropy > 0.0 {
+            // The frame's x along the anisotropy direction, which the GGX lobe stretches.
+            let frame = Frame {
+                x: sp.anisotropy_direction,
+                y: sp.normal.cross(sp.anisotropy_direction),
+                z: sp.normal,
+            };
+            let bsdf = Bsdf::with_frame(&params, frame, si.n_geom, self.wo);
+            if self.material.textures.normal.is_some() { bsdf.with_bump(si.shading.z) } else { bsdf }
+        } else if self.material.textures.normal.is_some() {
             Bsdf::with_frame(&params, Frame::from_z(sp.normal), si.n_geom, self.wo).with_bump(si.shading.z)
         } else {
             Bsdf::with_frame(&params, si.shading, si.n_geom, self.wo)

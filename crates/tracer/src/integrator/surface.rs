@@ -152,11 +152,13 @@ impl PathTracer {
         si: &SurfaceInteraction,
         b: [f32; 3],
     ) -> ShadingPoint {
-        let mut sp = if UNTEXTURED || material.textures.is_empty() {
+        // An anisotropic material needs its tangent frame even without textures.
+        let mut sp = if UNTEXTURED || (material.textures.is_empty() && material.anisotropy.is_none()) {
             ShadingPoint::of(material, si.shading.z)
         } else {
             let uv = self.uvs(si.triangle, b);
-            let frame = if material.textures.normal.is_some() || material.textures.coat_normal.is_some() {
+            let t = &material.textures;
+            let frame = if t.normal.is_some() || t.coat_normal.is_some() || material.anisotropy.is_some() {
                 self.tangent_frame(si.triangle, b)
             } else {
                 NO_FRAME
@@ -177,7 +179,7 @@ impl PathTracer {
         self.attributes.colors.as_ref().map(|c| lerp3(c[triangle as usize], b))
     }
 
-    /// Tangent data for normal mapping: vertex tangents if the mesh has them, and the
+    /// Tangent data for normal mapping and anisotropy: vertex tangents if the mesh has them, and the
     /// triangle's ∂p/∂u, ∂p/∂v from its texture coordinates.
     fn tangent_frame(&self, triangle: u32, b: [f32; 3]) -> TangentFrame {
         let t = triangle as usize;

@@ -13,6 +13,7 @@ mod mesh;
 mod motion;
 mod obj;
 mod rig;
+mod tangents;
 
 pub use mesh::{Mesh, MeshExtras, MeshPart};
 pub use motion::{DEFAULT_MOTION_STEPS, MAX_MOTION_STEPS, SceneMotion};

@@ -21,6 +21,9 @@
 //!   Volume Absorption node (Cycles: σa = (1 − colour) / distance). Transmission without the
 //!   extension is a solid in both: the specification's thin wall there is not implemented (it
 //!   would change the glass of every file not from Blender, the café's among them).
+//! - `KHR_materials_anisotropy` (`anisotropy.rs`): strength, rotation and texture; the strength
+//!   stretches the roughness as Blender's importer and Cycles do, or as the specification says
+//!   ([`AnisotropyMapping`], by the reading).
 //! - Occlusion textures are ignored without a word: a path tracer computes occlusion itself.
 //! - `KHR_materials_specular` and `KHR_materials_transmission` textures multiply their factors.
 //! - `KHR_materials_ior` also sets the dielectric F0 of the opaque lobes, as the extension
@@ -28,7 +31,7 @@
 //!   0.04 × `specular_color`, so the colour is scaled by F0(ior) / 0.04 (1 at the default 1.5).
 
 use super::textures::{TextureLoader, UvTransform};
-use crate::material::{AlphaMode, Material, MaterialTextures, Volume};
+use crate::material::{AlphaMode, AnisotropyMapping, Material, MaterialTextures, Volume};
 use crate::scene::GltfReading;
 use crate::scene::images::ColorSpace;
 use crate::texture::TextureRef;
@@ -67,12 +70,19 @@ fn volume(raw: Option<&Value>) -> Result<Option<Volume>, String> {
     Ok(Some(Volume { thickness: thickness as f32, colour, distance: distance as f32 }))
 }
 
-/// Sets `m`'s thin wall and absorption from its `KHR_materials_volume` in `reading`: the
+/// Sets `m`'s anisotropy mapping ([`AnisotropyMapping`]), thin wall and absorption in
+/// `reading`. From its `KHR_materials_volume`: the
 /// specification makes thickness 0 a thin wall and σa = −ln(colour) / distance; Blender's
 /// importer makes every transmissive surface bound a solid and builds a Volume Absorption node,
 /// σa = (1 − colour) / distance in Cycles. Transmission without the extension stays a solid in
 /// both readings (the specification's thin wall there is not implemented: docs/cycles.md).
 pub(crate) fn apply_reading(m: &mut Material, reading: GltfReading) {
+    if let Some(a) = &mut m.anisotropy {
+        a.mapping = match reading {
+            GltfReading::Blender => AnisotropyMapping::Blender,
+            GltfReading::Spec => AnisotropyMapping::Spec,
+        };
+    }
     let Some(v) = m.volume else {
         (m.thin_walled, m.attenuation) = (false, Vec3::ZERO);
         return;
@@ -265,6 +275,7 @@ pub(super) fn convert(
 
     let (coat, coat_roughness) = clearcoat(raw, textures, &label, &mut slots)?;
     let (sheen, sheen_roughness) = sheen(raw, textures, &label, &mut slots)?;
+    let anisotropy = super::anisotropy::anisotropy(raw, textures, &label, &mut slots)?;
 
     // KHR_materials_unlit: Blender imports it as an emission of the base colour that camera
     // rays alone see (a Light Path "Is Camera Ray" mix with a transparent BSDF); the emissive
@@ -298,6 +309,7 @@ pub(super) fn convert(
         volume,
         thin_walled: false,
         attenuation: Vec3::ZERO,
+        anisotropy,
         textures: slots,
         name,
     };
@@ -307,7 +319,7 @@ pub(super) fn convert(
 
 /// A texture reference read from raw JSON (`{"index", "texCoord", "extensions"}`, as the gltf
 /// crate leaves extensions it does not parse): `None`, warned, when it is malformed.
-fn raw_reference(
+pub(super) fn raw_reference(
     info: Option<&Value>,
     textures: &mut TextureLoader,
     space: ColorSpace,

@@ -27,6 +27,7 @@
 //! the specification's recommended falloff ([`SpotFalloff`](super::SpotFalloff)).
 
 mod accessor;
+mod anisotropy;
 mod buffers;
 mod channels;
 mod instancing;
@@ -40,10 +41,10 @@ mod textures;
 use super::rig::{
     Influences, LightKind, MorphTarget, Pose, Primitive, Rig, RigCamera, RigLight, RigNode, Skin,
 };
-use super::{GltfReading, Scene, SceneAnimation, SpotFalloff};
+use super::{GltfReading, Scene, SceneAnimation, SpotFalloff, tangents};
 use crate::camera::Projection;
 use crate::error::{Result, TracerError};
-use glam::{Affine3A, Mat4, Quat, Vec3};
+use glam::{Affine3A, Mat4, Quat, Vec2, Vec3, Vec4};
 use gltf::mesh::{Mode, Semantic};
 pub(crate) use material::apply_reading;
 use std::ops::Range;
@@ -70,6 +71,7 @@ const HANDLED_EXTENSIONS: &[&str] = &[
     "KHR_materials_unlit",
     "KHR_materials_clearcoat",
     "KHR_materials_sheen",
+    "KHR_materials_anisotropy",
 ];
 
 /// Loads a `.gltf` or `.glb` file (told apart by the GLB magic, not the name).
@@ -386,6 +388,12 @@ impl Loader<'_> {
                 None => self.default_material(),
             };
             self.check_texture_coordinates(&what, material, [uvs.is_some(), uvs1.is_some()]);
+            let tangents = match tangents {
+                None => {
+                    self.generated_tangents(material, &positions, normals.as_deref(), [&uvs, &uvs1], &indices)
+                }
+                given => given,
+            };
             // Counts and indices are checked when the primitive is flattened (`Mesh::push_with`).
             self.rig.primitives.push(Primitive {
                 label: what,
@@ -516,6 +524,30 @@ impl Loader<'_> {
     }
 
     /// glTF's default material (spec §3.9.2), added to the scene the first time it is needed.
+    /// MikkTSpace tangents for a primitive without `TANGENT` whose material `material` is
+    /// anisotropic, from the coordinate set its anisotropy texture uses (else set 0), as
+    /// Blender's Tangent node makes them; `None` for every other primitive (it pays nothing), and
+    /// for one whose counts or indices are wrong (flattening reports them).
+    fn generated_tangents(
+        &self,
+        material: u32,
+        positions: &[Vec3],
+        normals: Option<&[Vec3]>,
+        uvs: [&Option<Vec<Vec2>>; 2],
+        indices: &[u32],
+    ) -> Option<Vec<Vec4>> {
+        let m = self.scene.materials.get(material as usize)?;
+        m.anisotropy?;
+        let set = m.textures.anisotropy.map_or(0, |t| t.uv_set.min(1)) as usize;
+        let uvs = uvs[set].as_deref()?;
+        let n = positions.len();
+        let fits = uvs.len() == n
+            && normals.is_none_or(|v| v.len() == n)
+            && indices.len().is_multiple_of(3)
+            && indices.iter().all(|&i| (i as usize) < n);
+        fits.then(|| tangents::mikktspace(positions, normals, uvs, indices))
+    }
+
     fn default_material(&mut self) -> u32 {
         *self.default_material.get_or_insert_with(|| {
             self.scene.materials.push(material::gltf_default());
