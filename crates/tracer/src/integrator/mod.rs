@@ -197,11 +197,13 @@ impl PathTracer {
             }
             moving.contains(&true).then_some((motion, moving))
         });
+        let instances = scene.instances.as_deref();
         let bvh = match &moving {
             Some((motion, moving)) => {
                 attributes.gather_motion(mesh, &motion.normals);
-                Bvh::build_moving(mesh, motion, moving)
+                Bvh::build_scene(mesh, Some((motion, moving)), instances)
             }
+            None if instances.is_some() => Bvh::build_scene(mesh, None, instances),
             None => Bvh::build(mesh),
         };
         Ok(Self {
