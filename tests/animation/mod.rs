@@ -29,6 +29,9 @@ mod scene_time;
 // Geometry motion blur: a sliding square against its time-averaged coverage.
 mod motion_blur;
 
+// Rigid motion blur: a bar turning half a turn, along the arc (slerp), not the chords.
+mod rigid_motion;
+
 const CORNELL: &str = "scenes/cornell/cornell.gltf";
 
 /// The file names in `dir`, sorted.

@@ -39,8 +39,8 @@ pub(super) struct Placed {
     world: Affine3A,
     /// World to local, for an instance that does not move.
     inverse: Affine3A,
-    /// Its transform over the shutter.
-    motion: Option<RigidMotion>,
+    /// Its transform over the shutter (boxed: most copies stand still).
+    motion: Option<Box<RigidMotion>>,
 }
 
 /// The instances: each unique mesh's tree and the tree over the copies.
@@ -107,7 +107,7 @@ impl InstanceTree {
                     base,
                     world: i.world,
                     inverse: i.world.inverse(),
-                    motion: i.motion.clone(),
+                    motion: i.motion.clone().map(Box::new),
                 };
                 base += meshes[i.mesh as usize].len() as u32;
                 p
@@ -128,7 +128,7 @@ impl InstanceTree {
     pub(super) fn bytes(&self) -> usize {
         self.meshes.iter().map(Bvh::bytes).sum::<usize>()
             + self.placed.len() * std::mem::size_of::<Placed>()
-            + self.placed.iter().filter_map(|p| p.motion.as_ref()).map(RigidMotion::bytes).sum::<usize>()
+            + self.placed.iter().filter_map(|p| p.motion.as_deref()).map(RigidMotion::bytes).sum::<usize>()
             + std::mem::size_of_val(&self.top[..])
             + std::mem::size_of_val(&self.by_triangle[..])
     }
