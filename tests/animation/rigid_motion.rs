@@ -5,11 +5,10 @@
 //! at a constant rate. Interpolating its corners along chords between the motion steps (90°
 //! apart) would shrink it by up to 1 − cos 45° between them, which this test tells apart.
 
-use super::{Scratch, mcctrace};
+use super::Scratch;
+use super::motion_blur::render;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
-use tracer::image::RgbImage;
-use tracer::image_io::read_exr;
 
 /// Half length of the bar.
 const HALF_L: f64 = 0.8;
@@ -66,29 +65,6 @@ fn write_turning_bar(dir: &Path, keys: &[(f32, f32)]) -> PathBuf {
     let path = dir.join("bar.gltf");
     std::fs::write(&path, json).unwrap();
     path
-}
-
-/// Renders `scene` from `eye` at 32² under a white sky; `extra` flags added.
-fn render(scene: &Path, out: &Path, extra: &[&str]) -> RgbImage {
-    let (s, exr) = (scene.display().to_string(), out.display().to_string());
-    let mut args = vec![
-        "render",
-        &s,
-        "--camera",
-        "eye",
-        "--res",
-        "32x32",
-        "--env",
-        "1,1,1",
-        "--max-depth",
-        "2",
-        "--quiet",
-        "--out",
-        &exr,
-    ];
-    args.extend_from_slice(extra);
-    mcctrace(&args).unwrap();
-    read_exr(out).unwrap().rgb
 }
 
 /// The time-averaged sky fraction of pixel (i, j) (the film spans ±1, y up, rows from the
