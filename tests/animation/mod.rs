@@ -35,6 +35,9 @@ mod moving_light;
 // `animate` refits the BVH per frame: a resumed shot keeps a continuous run's bits.
 mod refit;
 
+// Rigid motion blur: a bar turning half a turn, along the arc (slerp), not the chords.
+mod rigid_motion;
+
 const CORNELL: &str = "scenes/cornell/cornell.gltf";
 
 /// The file names in `dir`, sorted.

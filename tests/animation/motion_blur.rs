@@ -87,7 +87,7 @@ fn write_square(dir: &Path, keys: &[(f32, f32)], backdrop: bool) -> PathBuf {
 }
 
 /// Renders `scene` from `eye` at 32² under a white sky; `extra` flags added.
-fn render(scene: &Path, out: &Path, extra: &[&str]) -> RgbImage {
+pub(super) fn render(scene: &Path, out: &Path, extra: &[&str]) -> RgbImage {
     let (s, exr) = (scene.display().to_string(), out.display().to_string());
     let mut args = vec![
         "render",

@@ -204,4 +204,36 @@ fn the_simple_instancing_sample_draws_its_125_cubes() {
     assert_eq!(scene.mesh.triangles.len(), 125 * 12);
     let (lo, hi) = scene.bounds().unwrap();
     assert!((hi - lo).min_element() >= 10.0, "instances spread over {lo}..{hi}");
+    // Drawn as 125 instances of one cube: the BVH stores its 12 triangles once.
+    let instances = scene.instances.as_deref().expect("the copies are instances");
+    assert_eq!((instances.meshes.len(), instances.instances.len()), (1, 125));
+    let config = tracer::integrator::IntegratorConfig::DEFAULT;
+    let bvh_of = |s: &tracer::scene::Scene| tracer::integrator::PathTracer::new(s, config).unwrap();
+    let flat = tracer::scene::Scene { instances: None, ..scene.clone() };
+    let (instanced, flattened) = (bvh_of(&scene), bvh_of(&flat));
+    assert_eq!(instanced.bvh().stored_triangles(), 12);
+    assert_eq!(flattened.bvh().stored_triangles(), 125 * 12);
+    let (small, large) = (instanced.bvh().bytes(), flattened.bvh().bytes());
+    assert!(small * 4 < large, "{small} bytes instanced, {large} flattened");
+    // The same picture as the flattened copies: the same seed takes the same paths but where
+    // a hit's last bits differ (the ray is taken into each copy's space).
+    let mut lit = scene.clone();
+    lit.environment.color = Vec3::ONE;
+    let camera = tracer::camera::CameraDesc::look_at(
+        "view",
+        Vec3::new(22.0, 16.0, 26.0),
+        Vec3::splat(5.0),
+        Vec3::Y,
+        tracer::camera::Projection::Perspective { fov_y: 0.7 },
+    )
+    .unwrap();
+    let size = glam::UVec2::new(64, 48);
+    let a = super::harness::render(&lit, &camera, size, 16, 3);
+    let b = super::harness::render(&tracer::scene::Scene { instances: None, ..lit }, &camera, size, 16, 3);
+    let (pa, pb) = (&a.images.image.pixels, &b.images.image.pixels);
+    let differing = pa.iter().zip(pb).filter(|(x, y)| (**x - **y).abs().max_element() > 1e-3).count();
+    let mean = |p: &[Vec3]| p.iter().map(|v| v.x as f64 + v.y as f64 + v.z as f64).sum::<f64>();
+    assert!(differing * 100 <= pa.len(), "{differing} of {} pixels differ", pa.len());
+    assert!((mean(pa) / mean(pb) - 1.0).abs() < 1e-3, "means {} and {}", mean(pa), mean(pb));
+    assert!(pa.iter().any(|p| p.x < 0.9) && pa.iter().any(|p| p.x >= 0.99), "cubes against the sky");
 }

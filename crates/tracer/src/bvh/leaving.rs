@@ -45,6 +45,13 @@ impl Leaving {
         Self { first: slot, mask: 1 }
     }
 
+    /// The same triangles with their slots moved up by `base` (a mesh's tree's slots as one
+    /// instance numbers them).
+    #[inline]
+    pub(super) fn shifted(self, base: u32) -> Self {
+        Self { first: self.first.wrapping_add(base), mask: self.mask }
+    }
+
     /// True when the query skips the triangle in `slot`.
     #[inline(always)]
     pub(super) fn skips(self, slot: u32) -> bool {

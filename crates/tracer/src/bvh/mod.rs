@@ -17,24 +17,29 @@
 //! - a ray spawned at a hit skips the triangle it leaves and the leaf-mates wholly behind it
 //!   (`leaving.rs`): those tests could only miss;
 //! - triangles that move within the shutter have a tree of their own (`motion.rs`), walked
-//!   after the static one at the ray's time; a scene without motion has none.
+//!   after the static one at the ray's time; a scene without motion has none;
+//! - instances (`instances.rs`) have a tree of their own over the copies, each copy walked in
+//!   its mesh's space down that mesh's one tree; a scene without instances has none.
 
+mod instances;
 mod leaving;
 mod motion;
 mod node;
+mod walk;
 
 use crate::ray::Ray;
-use crate::scene::{Mesh, SceneMotion};
-use crate::triangle::{TriangleHit, WatertightRay};
-use glam::Vec3;
+use crate::scene::{Mesh, SceneInstances, SceneMotion};
+use crate::triangle::TriangleHit;
+use glam::{Affine3A, Vec3};
+use instances::InstanceTree;
 pub use leaving::Leaving;
 use leaving::SlotSides;
 use motion::{MotionTree, Moving};
-use node::{NodeRay, WideNode};
+use node::WideNode;
 use obvhs::BvhBuildParams;
 use obvhs::aabb::Aabb;
 use obvhs::cwbvh::CwBvh;
-use std::mem::MaybeUninit;
+use walk::{Fixed, QueryRay, STACK, Step, Tree, Triangles, Walk, blocks, test_all, walk};
 
 /// A ray–scene intersection.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -67,86 +72,14 @@ pub struct Bvh {
     /// The triangles that move within the shutter, in slots after the static ones; `None`
     /// when nothing moves.
     motion: Option<Box<MotionTree>>,
-}
-
-/// A tree's triangles as its walk tests them: static corners, or moving ones at a time.
-trait Triangles {
-    /// The hit of `ray` on the triangle in (this tree's) `slot` within (0, t_max).
-    fn test(&self, ray: &WatertightRay, slot: usize, t_max: f32) -> Option<TriangleHit>;
-    /// How many triangles.
-    fn len(&self) -> usize;
-}
-
-/// One tree as a walk sees it: its nodes, its triangles, the global slot of its first
-/// triangle and each slot's mesh triangle.
-struct Tree<'a, T> {
-    nodes: &'a [WideNode],
-    tris: T,
-    first: u32,
-    ids: &'a [u32],
-}
-
-/// Triangles that do not move.
-struct Fixed<'a>(&'a [[[f32; 3]; 3]]);
-
-impl Triangles for Fixed<'_> {
-    #[inline(always)]
-    fn test(&self, ray: &WatertightRay, slot: usize, t_max: f32) -> Option<TriangleHit> {
-        ray.intersect(&self.0[slot], t_max)
-    }
-
-    fn len(&self) -> usize {
-        self.0.len()
-    }
-}
-
-/// Everything a query needs about its ray, computed once.
-struct QueryRay {
-    node: NodeRay,
-    triangle: WatertightRay,
-}
-
-impl QueryRay {
-    #[inline(always)]
-    fn new(ray: &Ray) -> Self {
-        // +0.0 turns −0.0 into +0.0 (and leaves everything else alone), so the slab order
-        // and the reciprocals agree.
-        let d = ray.direction + Vec3::ZERO;
-        let node = NodeRay::new(ray.origin, d);
-        Self { triangle: WatertightRay::new(ray.origin, d, node.inv_dir), node }
-    }
-}
-
-/// What a triangle hit means to the query.
-enum Step {
-    /// Not accepted: the hit does not count.
-    Miss,
-    /// Hit at this distance: only nearer hits matter from now on.
-    Closer(f32),
-    /// Hit, and that is all the query wanted.
-    Stop,
-}
-
-/// How a walk ended.
-#[derive(PartialEq)]
-enum Walk {
-    /// Every node in range was visited.
-    Done,
-    /// A triangle test said stop.
-    Stopped,
-    /// The fixed stack was too small for this tree (never for trees obvhs builds in practice;
-    /// the query then falls back to testing every triangle).
-    Overflow,
+    /// The instances, in slots after the moving triangles; `None` when there are none.
+    instances: Option<Box<InstanceTree>>,
 }
 
 /// How far past the best hit so far a closest-hit walk keeps looking, as a factor: far enough
 /// that a triangle whose rounded distance equals it passes the triangle test's range check
 /// (which compares unrounded, scaled distances), so ties are broken by triangle index.
 const TIE_RANGE: f32 = 1.0 + 4.0 * f32::EPSILON;
-
-/// Entries of the traversal stack: each level of the tree adds at most seven, so this holds
-/// trees 36 levels deep (an 8-wide tree over 2^32 triangles needs about 11).
-const STACK: usize = 256;
 
 /// Above this magnitude (2^60 ≈ 1.2e18) the boxes are rescaled before obvhs builds on them.
 /// Its builder works in f32 on surface areas and costs, which overflow for boxes past ~1e19;
@@ -213,20 +146,45 @@ impl Bvh {
     /// `motion`'s steps say: those go in the motion tree, answered at each ray's time, the rest
     /// in the static tree exactly as [`Bvh::build`] would hold them.
     pub fn build_moving(mesh: &Mesh, motion: &SceneMotion, moving: &[bool]) -> Self {
-        debug_assert_eq!(moving.len(), mesh.triangle_count());
+        Self::build_scene(mesh, Some((motion, moving)), None)
+    }
+
+    /// Builds the BVH over `mesh` with its triangles that `moving` flags (as
+    /// [`Bvh::build_moving`]) in the motion tree, and those `instances` draw held as instances
+    /// of their meshes (each mesh's triangles once, whatever the copies); the rest in the
+    /// static tree exactly as [`Bvh::build`] would hold them.
+    pub fn build_scene(
+        mesh: &Mesh,
+        moving: Option<(&SceneMotion, &[bool])>,
+        instances: Option<&SceneInstances>,
+    ) -> Self {
+        let mut in_copy = vec![false; if instances.is_some() { mesh.triangle_count() } else { 0 }];
+        for i in instances.iter().flat_map(|s| &s.instances) {
+            let count = instances.map_or(0, |s| s.meshes[i.mesh as usize].triangle_count());
+            in_copy[i.first as usize..i.first as usize + count].fill(true);
+        }
         let (mut still, mut moved) = (Vec::new(), Vec::new());
-        for (t, &m) in moving.iter().enumerate() {
+        for t in 0..mesh.triangle_count() {
+            if in_copy.get(t) == Some(&true) {
+                continue;
+            }
+            let m = moving.is_some_and(|(_, moving)| moving[t]);
             if m { moved.push(t as u32) } else { still.push(t as u32) }
         }
         let mut bvh = Self::build_static(mesh, still);
-        if !moved.is_empty() {
+        if let Some((motion, _)) = moving.filter(|_| !moved.is_empty()) {
             let tree = MotionTree::build(mesh, motion, &moved);
             let first = bvh.triangles.len() as u32;
-            bvh.slot_of.resize(mesh.triangle_count(), 0);
+            let needed = moved.iter().max().map_or(0, |&m| m as usize + 1);
+            bvh.slot_of.resize(bvh.slot_of.len().max(needed), 0);
             for (slot, &t) in tree.triangle_ids.iter().enumerate() {
                 bvh.slot_of[t as usize] = first + slot as u32;
             }
             bvh.motion = Some(Box::new(tree));
+        }
+        if let Some(instances) = instances.filter(|s| !s.instances.is_empty()) {
+            let first = bvh.len() as u32;
+            bvh.instances = Some(Box::new(InstanceTree::build(instances, first)));
         }
         bvh
     }
@@ -244,13 +202,15 @@ impl Bvh {
         let triangle_ids: Vec<u32> = cwbvh.primitive_indices.iter().map(|&i| ids[i as usize]).collect();
         let triangles: Vec<[[f32; 3]; 3]> =
             triangle_ids.iter().map(|&t| mesh.corners(t as usize).map(|p| p.to_array())).collect();
-        let mut slot_of = vec![0u32; mesh.triangle_count()];
+        // Only as long as the largest triangle held here needs: an instance's triangles are
+        // found through the instances, and the copies cost no entry.
+        let mut slot_of = vec![0u32; ids.iter().max().map_or(0, |&m| m as usize + 1)];
         for (slot, &t) in triangle_ids.iter().enumerate() {
             slot_of[t as usize] = slot as u32;
         }
         let nodes = if triangles.is_empty() { Vec::new() } else { widen(&cwbvh, &triangles, 1) };
         let sides = sides_of(&nodes, &triangles);
-        Self { nodes, triangles, triangle_ids, slot_of, sides, motion: None }
+        Self { nodes, triangles, triangle_ids, slot_of, sides, motion: None, instances: None }
     }
 
     /// Refits the tree to `mesh` with its vertices moved (the same triangles: a skinned or
@@ -259,7 +219,7 @@ impl Bvh {
     /// looser boxes where the pose strays far from the one the tree was built for. False (and
     /// nothing changed) when `mesh` has other triangles or the tree has moving ones.
     pub fn refit(&mut self, mesh: &Mesh) -> bool {
-        if self.motion.is_some() || mesh.triangle_count() != self.slot_of.len() {
+        if self.motion.is_some() || self.instances.is_some() || mesh.triangle_count() != self.slot_of.len() {
             return false;
         }
         for (tri, &t) in self.triangles.iter_mut().zip(&self.triangle_ids) {
@@ -278,13 +238,46 @@ impl Bvh {
     pub fn leaving(&self, slot: u32, direction: Vec3) -> Leaving {
         match self.sides.get(slot as usize) {
             Some(sides) => sides.leaving(slot, direction),
-            None => Leaving::slot(slot),
+            None => match &self.instances {
+                Some(instances) if instances.holds(slot) => instances.leaving(slot, direction),
+                _ => Leaving::slot(slot),
+            },
         }
     }
 
-    /// Number of triangles.
+    /// Number of triangles (every copy's: the slots).
     pub fn len(&self) -> usize {
-        self.triangles.len() + self.motion.as_ref().map_or(0, |m| m.triangle_ids.len())
+        self.triangles.len()
+            + self.motion.as_ref().map_or(0, |m| m.triangle_ids.len())
+            + self.instances.as_ref().map_or(0, |i| i.slots())
+    }
+
+    /// Number of triangles the BVH stores: an instanced mesh's once, whatever its copies.
+    pub fn stored_triangles(&self) -> usize {
+        self.triangles.len()
+            + self.motion.as_ref().map_or(0, |m| m.triangle_ids.len())
+            + self.instances.as_ref().map_or(0, |i| i.stored_triangles())
+    }
+
+    /// Bytes the trees, their triangles and the slot tables take.
+    pub fn bytes(&self) -> usize {
+        let motion = self.motion.as_ref().map_or(0, |m| {
+            std::mem::size_of_val(&m.nodes[..])
+                + std::mem::size_of_val(&m.corners[..])
+                + std::mem::size_of_val(&m.triangle_ids[..])
+        });
+        std::mem::size_of_val(&self.nodes[..])
+            + std::mem::size_of_val(&self.triangles[..])
+            + std::mem::size_of_val(&self.triangle_ids[..])
+            + std::mem::size_of_val(&self.slot_of[..])
+            + std::mem::size_of_val(&self.sides[..])
+            + motion
+            + self.instances.as_ref().map_or(0, |i| i.bytes())
+    }
+
+    /// True when the BVH holds instances.
+    pub fn has_instances(&self) -> bool {
+        self.instances.is_some()
     }
 
     /// True when the BVH holds no triangle.
@@ -294,14 +287,16 @@ impl Bvh {
 
     /// True when some triangle moves within the shutter.
     pub fn has_motion(&self) -> bool {
-        self.motion.is_some()
+        self.motion.is_some() || self.instances.as_ref().is_some_and(|i| i.has_motion())
     }
 
     /// The world-space corners of mesh triangle `triangle` (by its index in the mesh); a
     /// moving triangle's at the shutter's opening.
     #[inline]
     pub fn triangle_corners_by_id(&self, triangle: u32) -> [Vec3; 3] {
-        self.triangle_at(self.slot_of[triangle as usize], f32::NEG_INFINITY).map(Vec3::from_array)
+        let slot = self.instances.as_ref().and_then(|i| i.slot_of(triangle));
+        let slot = slot.unwrap_or_else(|| self.slot_of[triangle as usize]);
+        self.triangle_at(slot, f32::NEG_INFINITY).map(Vec3::from_array)
     }
 
     /// The world-space corners of the triangle in `slot` at ray time `time` (frames); a static
@@ -310,7 +305,12 @@ impl Bvh {
     pub fn triangle_at(&self, slot: u32, time: f32) -> [[f32; 3]; 3] {
         match self.triangles.get(slot as usize) {
             Some(tri) => *tri,
-            None => self.moving(slot).map_or([[0.0; 3]; 3], |(m, s)| m.corners_at(s, m.at(time))),
+            None => match self.moving(slot) {
+                Some((m, s)) => m.corners_at(s, m.at(time)),
+                None => {
+                    self.instances.as_ref().and_then(|i| i.triangle_at(slot, time)).unwrap_or([[0.0; 3]; 3])
+                }
+            },
         }
     }
 
@@ -318,6 +318,15 @@ impl Bvh {
     #[inline(always)]
     pub fn is_moving(&self, slot: u32) -> bool {
         slot as usize >= self.triangles.len()
+            && (self.moving(slot).is_some() || self.instances.as_ref().is_some_and(|i| i.moves(slot)))
+    }
+
+    /// For the slot of a copy that moves rigidly within the shutter, the transform taking its
+    /// points at the shutter's opening to where they are at `time` (shading normals turn
+    /// with it); `None` for any other slot.
+    #[inline]
+    pub fn rigid_motion(&self, slot: u32, time: f32) -> Option<Affine3A> {
+        self.instances.as_ref()?.motion_from_open(slot, time)
     }
 
     /// Where ray time `time` falls between the motion steps, as (the step before it, the
@@ -367,7 +376,7 @@ impl Bvh {
         leaving: Leaving,
         accept: impl Fn(u32, [f32; 3]) -> bool,
     ) -> Option<Hit> {
-        if self.nodes.is_empty() && self.motion.is_none() {
+        if self.nodes.is_empty() && self.motion.is_none() && self.instances.is_none() {
             return None;
         }
         let q = QueryRay::new(ray);
@@ -406,9 +415,13 @@ impl Bvh {
         }
         if let Some(tree) = self.moving_at(ray.time) {
             let (walk, t_left) = walk::<N, true, _>(&tree, &q, t_max, leaving, &mut on_hit);
+            t_max = t_left;
             if walk == Walk::Overflow {
-                test_all(&tree, &q, t_left, leaving, &mut on_hit);
+                t_max = test_all(&tree, &q, t_left, leaving, &mut on_hit).1;
             }
+        }
+        if let Some(instances) = &self.instances {
+            instances.walk::<N, true>(ray, &q, t_max, leaving, &mut on_hit);
         }
         (best_slot != u32::MAX).then_some(Hit {
             t,
@@ -447,7 +460,7 @@ impl Bvh {
         leaving: Leaving,
         accept: impl Fn(u32, [f32; 3]) -> bool,
     ) -> bool {
-        if self.nodes.is_empty() && self.motion.is_none() {
+        if self.nodes.is_empty() && self.motion.is_none() && self.instances.is_none() {
             return false;
         }
         let q = QueryRay::new(ray);
@@ -456,7 +469,11 @@ impl Bvh {
         if !self.nodes.is_empty() && blocks::<N, _>(&self.fixed(), &q, t_max, leaving, &mut on_hit) {
             return true;
         }
-        self.moving_at(ray.time).is_some_and(|tree| blocks::<N, _>(&tree, &q, t_max, leaving, &mut on_hit))
+        if self.moving_at(ray.time).is_some_and(|tree| blocks::<N, _>(&tree, &q, t_max, leaving, &mut on_hit))
+        {
+            return true;
+        }
+        self.instances.as_ref().is_some_and(|i| i.walk::<N, false>(ray, &q, t_max, leaving, &mut on_hit).0)
     }
 
     /// The static tree, for a walk.
@@ -471,136 +488,6 @@ impl Bvh {
         let m = self.motion.as_deref()?;
         let tris = Moving { tree: m, at: m.at(time) };
         Some(Tree { nodes: &m.nodes, tris, first: self.triangles.len() as u32, ids: &m.triangle_ids })
-    }
-}
-
-/// Whether a hit that `on_hit` stops at blocks the ray in one tree (its walk, or on overflow
-/// every triangle).
-#[inline(always)]
-fn blocks<const N: usize, T: Triangles>(
-    tree: &Tree<'_, T>,
-    q: &QueryRay,
-    t_max: f32,
-    leaving: Leaving,
-    on_hit: &mut impl FnMut(u32, u32, TriangleHit) -> Step,
-) -> bool {
-    match walk::<N, false, _>(tree, q, t_max, leaving, on_hit).0 {
-        Walk::Done => false,
-        Walk::Stopped => true,
-        Walk::Overflow => test_all(tree, q, t_max, leaving, on_hit).0 == Walk::Stopped,
-    }
-}
-
-/// Tests every triangle of a tree, in slot order (the fallback when a walk overflows its
-/// stack). Returns how it ended and the final t_max.
-#[cold]
-fn test_all<T: Triangles>(
-    tree: &Tree<'_, T>,
-    q: &QueryRay,
-    mut t_max: f32,
-    leaving: Leaving,
-    on_hit: &mut impl FnMut(u32, u32, TriangleHit) -> Step,
-) -> (Walk, f32) {
-    let (tris, first) = (&tree.tris, tree.first);
-    for (slot, &id) in tree.ids.iter().enumerate().take(tris.len()) {
-        if leaving.skips(first + slot as u32) {
-            continue;
-        }
-        if let Some(h) = tris.test(&q.triangle, slot, t_max) {
-            match on_hit(first + slot as u32, id, h) {
-                Step::Miss => {}
-                Step::Closer(t) => t_max = t,
-                Step::Stop => return (Walk::Stopped, t_max),
-            }
-        }
-    }
-    (Walk::Done, t_max)
-}
-
-/// Visits every node whose box the ray enters within (0, t_max), nearest first with
-/// `NEAREST_FIRST` (closest-hit queries, where a near hit culls the far boxes) and in slot
-/// order without (occlusion, where any hit ends the walk, so sorting buys nothing:
-/// docs/performance.md, ledger: "unsorted occlusion walk"),
-/// tests the triangles of their leaves (but those the ray is `leaving` skips) and hands
-/// each hit to `on_hit(slot, triangle, hit)` (slots numbered from the tree's `first`, its
-/// `ids` giving the mesh triangle), whose answer may shorten the ray or end the walk.
-/// Returns how the walk ended and the final t_max.
-#[inline(always)]
-fn walk<const N: usize, const NEAREST_FIRST: bool, T: Triangles>(
-    tree: &Tree<'_, T>,
-    q: &QueryRay,
-    mut t_max: f32,
-    leaving: Leaving,
-    on_hit: &mut impl FnMut(u32, u32, TriangleHit) -> Step,
-) -> (Walk, f32) {
-    let mut stack = [MaybeUninit::<(u32, f32)>::uninit(); N];
-    let mut len = 0usize;
-    let Tree { nodes, tris, first: first_slot, ids } = tree;
-    let first_slot = *first_slot;
-    let mut node = &nodes[0];
-    loop {
-        let (mask, t_near) = node.intersect(&q.node, t_max);
-        let mut leaves = mask & node.leaves as u32;
-        while leaves != 0 {
-            let c = leaves.trailing_zeros() as usize;
-            leaves &= leaves - 1;
-            let first = node.index[c];
-            for slot in first..first + node.count[c] as u32 {
-                if leaving.skips(first_slot + slot) {
-                    continue;
-                }
-                let Some(h) = tris.test(&q.triangle, slot as usize, t_max) else {
-                    continue;
-                };
-                match on_hit(first_slot + slot, ids[slot as usize], h) {
-                    Step::Miss => {}
-                    Step::Closer(t) => t_max = t,
-                    Step::Stop => return (Walk::Stopped, t_max),
-                }
-            }
-        }
-        // Inner children go on the stack farthest first, so the nearest comes off next (or,
-        // unsorted, in reverse slot order).
-        let mut inner = mask & node.inner as u32;
-        let mut order = [(0u32, 0.0f32); 8];
-        let mut n = 0;
-        while inner != 0 {
-            let c = inner.trailing_zeros() as usize;
-            inner &= inner - 1;
-            let entry = (node.index[c], t_near[c]);
-            let mut i = n;
-            while NEAREST_FIRST && i > 0 && order[i - 1].1 < entry.1 {
-                order[i] = order[i - 1];
-                i -= 1;
-            }
-            order[i] = entry;
-            n += 1;
-        }
-        if n > 0 {
-            // Descend into the nearest child now; the others wait on the stack.
-            for &entry in &order[..n - 1] {
-                let Some(slot) = stack.get_mut(len) else { return (Walk::Overflow, t_max) };
-                slot.write(entry);
-                len += 1;
-            }
-            if order[n - 1].1 <= t_max {
-                node = &nodes[order[n - 1].0 as usize];
-                continue;
-            }
-        }
-        // The nearest node still in range (a hit found since it was pushed may be nearer).
-        loop {
-            if len == 0 {
-                return (Walk::Done, t_max);
-            }
-            len -= 1;
-            // SAFETY: every entry below `len` was written by the push above.
-            let (index, t) = unsafe { stack[len].assume_init() };
-            if t <= t_max {
-                node = &nodes[index as usize];
-                break;
-            }
-        }
     }
 }
 
@@ -682,5 +569,7 @@ fn grow(b: Option<(Vec3, Vec3)>, p: Vec3) -> (Vec3, Vec3) {
     b.map_or((p, p), |(lo, hi)| (lo.min(p), hi.max(p)))
 }
 
+#[cfg(test)]
+mod instance_tests;
 #[cfg(test)]
 mod tests;

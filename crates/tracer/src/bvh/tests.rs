@@ -4,7 +4,7 @@
 use super::*;
 use crate::lcg::Lcg;
 use crate::scene::MeshPart;
-use crate::triangle::safe_reciprocal;
+use crate::triangle::{WatertightRay, safe_reciprocal};
 use glam::Vec3;
 
 fn mesh_of(tris: &[[Vec3; 3]]) -> Mesh {

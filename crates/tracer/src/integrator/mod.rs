@@ -217,11 +217,13 @@ impl PathTracer {
             moving.contains(&true).then_some((motion, moving))
         });
         let mut refitted = false;
+        let instances = scene.instances.as_deref();
         let bvh = match (&moving, previous) {
             (Some((motion, moving)), _) => {
                 attributes.gather_motion(mesh, &motion.normals);
-                Bvh::build_moving(mesh, motion, moving)
+                Bvh::build_scene(mesh, Some((motion, moving)), instances)
             }
+            (None, _) if instances.is_some() => Bvh::build_scene(mesh, None, instances),
             (None, Some(mut bvh)) => {
                 refitted = bvh.refit(mesh);
                 if refitted { bvh } else { Bvh::build(mesh) }

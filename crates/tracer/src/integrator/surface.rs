@@ -125,6 +125,16 @@ impl PathTracer {
         let n_geom = geometric.z;
         let shading = match (&self.attributes.normals, &self.attributes.motion_normals) {
             _ if FLAT => geometric,
+            // A rigidly moving copy's normals turn with it: those at the shutter's opening,
+            // by the (inverse transpose of the) motion from there.
+            (Some(normals), Some(steps))
+                if !normals[t].contains(&Vec3::ZERO)
+                    && let Some(m) = self.bvh.rigid_motion(hit.slot, hit.time) =>
+            {
+                let cofactor = crate::scene::normal_matrix(glam::Mat3::from(m.matrix3));
+                let n = cofactor * lerp3(steps[0][t], hit.barycentrics);
+                Frame::from_z(n.normalize_or(n_geom))
+            }
             (Some(normals), Some(steps)) if !normals[t].contains(&Vec3::ZERO) => {
                 let (k, f) = self.bvh.motion_step(hit.time);
                 let (a, b) = (steps[k][t], steps[k + 1][t]);

@@ -9,15 +9,18 @@ pub mod camera_list;
 mod environment;
 mod gltf;
 mod images;
+mod instances;
 mod mesh;
 mod motion;
 mod obj;
 mod rig;
 mod tangents;
 
+pub use instances::{Instance, InstanceMesh, RigidMotion, SceneInstances, slerp};
 pub use mesh::{Mesh, MeshExtras, MeshPart};
 pub use motion::{DEFAULT_MOTION_STEPS, MAX_MOTION_STEPS, SceneMotion};
 pub use rig::SceneAnimation;
+pub(crate) use rig::normal_matrix;
 
 use crate::camera::CameraDesc;
 use crate::error::{Result, TracerError};
@@ -190,6 +193,10 @@ pub struct Scene {
     /// The vertices at the motion steps of a shutter ([`Scene::in_motion`]), when something
     /// moves within it; `None` renders the mesh as it is, at every ray time.
     pub motion: Option<Arc<SceneMotion>>,
+    /// The mesh's triangles that the BVH holds as instances of shared meshes (docs/design/
+    /// tracer.md §3.13): `EXT_mesh_gpu_instancing` copies, and nodes moving rigidly within the
+    /// shutter; `None` when there are none.
+    pub instances: Option<Arc<SceneInstances>>,
 }
 
 impl Scene {
@@ -277,6 +284,7 @@ impl Scene {
         let flat = animation.flatten_at(seconds).map_err(at)?;
         let mut cameras = flat.cameras;
         cameras.extend(self.cameras.iter().skip(animation.camera_count()).cloned());
+        let instances = instances::gpu_instances(animation.rig(), &flat.placed).map(Arc::new);
         let scene = Scene {
             path: self.path.clone(),
             mesh: flat.mesh,
@@ -290,6 +298,7 @@ impl Scene {
             reading: self.reading,
             animation: Some(Arc::clone(animation)),
             motion: None,
+            instances,
         };
         scene.validate_geometry().map_err(|e| match e {
             TracerError::Scene { path, message } => {
@@ -348,6 +357,9 @@ impl Scene {
         self.mesh.validate(self.materials.len()).map_err(|m| TracerError::scene(&self.path, m))?;
         if let Some(motion) = &self.motion {
             motion.validate(&self.mesh).map_err(|m| TracerError::scene(&self.path, m))?;
+        }
+        if let Some(instances) = &self.instances {
+            instances.validate(self.mesh.triangle_count()).map_err(|m| TracerError::scene(&self.path, m))?;
         }
         for (i, light) in self.lights.iter().enumerate() {
             let ok = match *light {

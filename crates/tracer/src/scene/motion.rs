@@ -101,6 +101,7 @@ impl Scene {
         }
         let mut motion =
             SceneMotion { open: frames.0, close: frames.1, positions: Vec::new(), normals: Vec::new() };
+        let mut placed = Vec::with_capacity(steps);
         for k in 0..steps {
             // In f64, so that the first and last step land on the shutter's ends exactly.
             let f = k as f64 / (steps - 1) as f64;
@@ -118,16 +119,61 @@ impl Scene {
                 ));
                 return Ok(self);
             }
+            placed.push(flat.placed);
             motion.positions.push(flat.mesh.positions);
             if !self.mesh.normals.is_empty() {
                 motion.normals.push(flat.mesh.normals);
             }
         }
         motion.validate(&self.mesh).map_err(|m| TracerError::scene(&self.path, m))?;
-        if motion.moving_triangles(&self.mesh).contains(&true) {
+        let moving = motion.moving_triangles(&self.mesh);
+        if moving.contains(&true) {
+            self.instances = self.rigid_instances(&animation, &placed, frames, &moving).map(Arc::new);
             self.motion = Some(Arc::new(motion));
         }
         Ok(self)
+    }
+
+    /// The instances of the scene in motion: nodes that move rigidly within the shutter, their
+    /// transforms at the steps (`placed`, one flattening per step) interpolated per ray time,
+    /// and the `EXT_mesh_gpu_instancing` copies that stay still, where the frame has them. A
+    /// node is left to the moving triangles (`moving`) when it deforms, emits light (which is
+    /// lit where the frame has it) or its transform does not split into translation, rotation
+    /// and scale.
+    fn rigid_instances(
+        &self,
+        animation: &super::SceneAnimation,
+        placed: &[Vec<super::rig::Placed>],
+        frames: (f32, f32),
+        moving: &[bool],
+    ) -> Option<super::SceneInstances> {
+        let rig = animation.rig();
+        let mut builder = super::instances::Builder::new(rig);
+        let still = |first: u32| self.instances.as_ref()?.instances.iter().find(|i| i.first == first);
+        let emissive = |t: usize| {
+            self.materials.get(self.mesh.material_ids[t] as usize).is_some_and(|m| m.is_emissive())
+        };
+        for (i, p) in placed[0].iter().enumerate() {
+            let range = p.first as usize..(p.first + p.count) as usize;
+            let same = placed
+                .iter()
+                .all(|s| s.get(i).is_some_and(|q| (q.node, q.first, q.count) == (p.node, p.first, p.count)));
+            let moves =
+                same && p.rigid && moving[range.clone()].contains(&true) && !range.clone().any(emissive);
+            let worlds: Vec<glam::Affine3A> = placed.iter().map(|s| s[i.min(s.len() - 1)].world).collect();
+            let motion =
+                if moves { super::RigidMotion::from_steps(frames.0, frames.1, &worlds) } else { None };
+            match (motion, still(p.first)) {
+                (Some(m), _) => {
+                    builder.add(p, worlds[0], Some(m));
+                }
+                (None, Some(copy)) if !moving[range].contains(&true) => {
+                    builder.add(p, copy.world, None);
+                }
+                _ => {}
+            }
+        }
+        builder.finish()
     }
 }
 

@@ -179,6 +179,7 @@ pub(super) fn load_with(path: &Path, keep_rig: bool) -> Result<Scene> {
     // before the first key to it).
     let animation = SceneAnimation::new(rig, channels).map_err(err)?;
     let flat = animation.flatten_at(0.0).map_err(err)?;
+    scene.instances = super::instances::gpu_instances(animation.rig(), &flat.placed).map(Arc::new);
     scene.mesh = flat.mesh;
     scene.cameras = flat.cameras;
     scene.lights = flat.lights;
@@ -290,6 +291,7 @@ impl Loader<'_> {
                         light,
                         skin: None,
                         weights: Vec::new(),
+                        gpu_instance: false,
                     });
                     for (i, pose) in poses.into_iter().enumerate() {
                         self.rig.nodes.push(RigNode {
@@ -301,6 +303,7 @@ impl Loader<'_> {
                             light: None,
                             skin,
                             weights: weights.clone(),
+                            gpu_instance: true,
                         });
                     }
                 }
@@ -313,6 +316,7 @@ impl Loader<'_> {
                     light,
                     skin,
                     weights,
+                    gpu_instance: false,
                 }),
             }
             let children: Vec<_> = node.children().collect();

@@ -20,6 +20,7 @@ mod skin;
 
 pub(in crate::scene) use channel::{Channel, Interpolation, Property};
 pub(in crate::scene) use morph::MorphTarget;
+pub(crate) use skin::normal_matrix;
 pub(in crate::scene) use skin::{Influences, Skin};
 
 use morph::Morphed;
@@ -76,6 +77,8 @@ pub(in crate::scene) struct RigNode {
     pub skin: Option<usize>,
     /// Morph-target weights when no animation sets them (the node's, else its mesh's).
     pub weights: Vec<f32>,
+    /// One of the copies `EXT_mesh_gpu_instancing` places (drawn as an instance).
+    pub gpu_instance: bool,
 }
 
 /// A triangle primitive in its node's local space, indices already a counter-clockwise list.
@@ -163,6 +166,25 @@ pub(in crate::scene) struct Flat {
     pub cameras: Vec<CameraDesc>,
     /// Lights in node order.
     pub lights: Vec<PunctualLight>,
+    /// Every node that drew triangles, with where they went.
+    pub placed: Vec<Placed>,
+}
+
+/// Where [`Rig::flatten`] put one node's triangles.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(in crate::scene) struct Placed {
+    /// The node.
+    pub node: usize,
+    /// Its world transform.
+    pub world: Affine3A,
+    /// Its first triangle in the flattened mesh.
+    pub first: u32,
+    /// How many triangles it drew.
+    pub count: u32,
+    /// Its transform mirrors (the triangles were re-wound).
+    pub mirrored: bool,
+    /// Its triangles are its primitives' moved by `world` alone (no skin, no morph targets).
+    pub rigid: bool,
 }
 
 /// Reused buffers for one primitive's transformed attributes.
@@ -229,7 +251,10 @@ impl Rig {
                     Some(s) => Some(self.joint_matrices(s, &worlds, &mut joint_buf)?),
                     None => None,
                 };
+                let first = flat.mesh.triangle_count() as u32;
+                let mut rigid = true;
                 for prim in primitives(node)? {
+                    rigid &= prim.targets.is_empty() && (joints.is_none() || prim.influences.is_none());
                     let mut attrs = Attributes {
                         positions: &prim.positions,
                         normals: prim.normals.as_deref(),
@@ -268,6 +293,9 @@ impl Rig {
                     };
                     pushed.map_err(|m| format!("{}: {m}", prim.label))?;
                 }
+                let count = flat.mesh.triangle_count() as u32 - first;
+                let mirrored = frame.mirrored;
+                flat.placed.push(Placed { node: i, world: *world, first, count, mirrored, rigid });
             }
             if let Some(camera) = &node.camera {
                 let projection = camera.projection;
@@ -543,6 +571,11 @@ impl SceneAnimation {
         }
         let duration = channels.iter().map(Channel::end).fold(0.0, f32::max);
         Ok(Self { rig, channels, rest, animated, duration })
+    }
+
+    /// The node hierarchy.
+    pub(in crate::scene) fn rig(&self) -> &Rig {
+        &self.rig
     }
 
     /// The end of the longest channel, in seconds (0 when nothing is animated).

@@ -95,7 +95,7 @@ impl Influences {
 /// The cofactor matrix of `m` signed by its determinant: it transforms normals as the inverse
 /// transpose does, up to scale, and stays finite for singular matrices.
 #[inline]
-pub(in crate::scene) fn normal_matrix(m: Mat3) -> Mat3 {
+pub(crate) fn normal_matrix(m: Mat3) -> Mat3 {
     let c = Mat3::from_cols(m.y_axis.cross(m.z_axis), m.z_axis.cross(m.x_axis), m.x_axis.cross(m.y_axis));
     c * m.determinant().signum()
 }
