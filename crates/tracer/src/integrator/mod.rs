@@ -37,8 +37,10 @@ mod attributes;
 mod path_state;
 mod scene_query;
 
+#[cfg(any(test, feature = "test-support"))]
 use crate::bvh::{Bvh, Hit};
 use crate::error::{Result, TracerError};
+#[cfg(any(test, feature = "test-support"))]
 use crate::interaction::SurfaceInteraction;
 #[cfg(any(test, feature = "test-support"))]
 use crate::light::LightChoice;
@@ -151,7 +153,9 @@ impl PathTracer {
         self.config
     }
 
-    /// The acceleration structure (for tests and tools).
+    /// Test hook: the acceleration structure (tests trace rays against it directly).
+    #[doc(hidden)]
+    #[cfg(any(test, feature = "test-support"))]
     pub fn bvh(&self) -> &Bvh {
         self.scene.bvh()
     }
@@ -188,8 +192,9 @@ impl PathTracer {
         Self { scene: self.scene.with_light_choice(choice, scene), ..self }
     }
 
-    /// The surface geometry at `hit`.
-    #[inline]
+    /// Test hook: the surface geometry at `hit` (tests spawn rays from it).
+    #[doc(hidden)]
+    #[cfg(any(test, feature = "test-support"))]
     pub fn interaction(&self, hit: &Hit) -> SurfaceInteraction {
         self.scene.surface::<false>(hit)
     }

@@ -127,6 +127,7 @@ impl SceneQuery {
     }
 
     /// The acceleration structure (for tests).
+    #[cfg(any(test, feature = "test-support"))]
     pub(super) fn bvh(&self) -> &Bvh {
         &self.bvh
     }
