@@ -260,7 +260,7 @@ fn inbetween_frame_through_the_lens_reader() {
 fn golden_files_round_trip_and_stay_compact() {
     // A golden written and read back is the same estimate, bit for bit, spp included.
     let mut rng = Rng::new(7);
-    let mut noise = |_| Vec3::new(rng.f32(), rng.f32(), rng.f32());
+    let mut noise = |_| Vec3::new(rng.unit(), rng.unit(), rng.unit());
     let (w, h) = (5, 3);
     let written = Sampled {
         mean: tracer::image::RgbImage { width: w, height: h, pixels: (0..w * h).map(&mut noise).collect() },
