@@ -30,6 +30,7 @@ use tracer::camera::{CameraDesc, CameraSample, Projection};
 use tracer::integrator::{IntegratorConfig, PathTracer};
 use tracer::lens::LensChain;
 use tracer::scene::{CameraSelector, Scene};
+use tracer::test_support::Rng;
 
 /// Cornell renders: 48² at 256 spp (590k samples). Where the light is not in view, a 2 % gain
 /// error is a ≈ 20σ shift of the mean. Where it is, the pixels straddling its edge (samples of 17

@@ -28,6 +28,7 @@ use tracer::material::Material;
 use tracer::ray::Ray;
 use tracer::render::Rendered;
 use tracer::scene::{Environment, Mesh, MeshPart, Scene};
+use tracer::test_support::Rng;
 use tracer::test_support::compare::{Estimate, StatTest};
 
 /// Film and samples of the Cornell comparisons: 128² at 64 spp (a 2 % bias gives z ≈ 9 here).

@@ -1,6 +1,7 @@
 //! Helpers shared by the end-to-end tests: the bundled Cornell box and its independent reference,
 //! a render wrapper on a pool of a chosen size, analytic geometry built in code (icospheres,
-//! planes), a seeded random generator, and small image utilities. Each test file uses a subset.
+//! planes), and small image utilities. Each test file uses a subset; random test inputs come from
+//! `tracer::test_support::Rng`.
 #![allow(dead_code)]
 
 pub mod child;
@@ -215,9 +216,6 @@ pub fn scaled(image: &RgbImage, k: f32) -> RgbImage {
 pub fn constant_image(width: u32, height: u32, value: Vec3) -> RgbImage {
     RgbImage { width, height, pixels: vec![value; (width * height) as usize] }
 }
-
-/// Deterministic random numbers for test inputs: the tracer's one test generator.
-pub use tracer::test_support::Rng;
 
 /// An icosphere: the icosahedron subdivided `levels` times (20 · 4^levels triangles), every
 /// vertex projected onto the sphere of `radius` about `centre`, in f64 before rounding. Triangles

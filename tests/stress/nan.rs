@@ -15,6 +15,7 @@ use tracer::integrator::PathTracer;
 use tracer::lens::LensChain;
 use tracer::render::Rendered;
 use tracer::scene::{Environment, Mesh, MeshPart, PunctualLight, Scene};
+use tracer::test_support::Rng;
 use tracer::test_support::compare::StatTest;
 
 /// What is wrong with a render's numbers (NaN/Inf samples counted by the film, or a non-finite
