@@ -33,7 +33,6 @@ use glam::UVec2;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use tracer::camera::{CameraDesc, Projection};
-use tracer::compare::rel_mse;
 use tracer::denoise::{Aux, Denoiser, Guide, Quality, Settings};
 use tracer::film::FilmImages;
 use tracer::image::RgbImage;
@@ -41,6 +40,7 @@ use tracer::integrator::{IntegratorConfig, PathTracer};
 use tracer::lens::LensChain;
 use tracer::render::{NoProgress, RenderSettings, render};
 use tracer::scene::{CameraSelector, Scene};
+use tracer::test_support::compare::rel_mse;
 
 /// A scene prepared for tracing and the camera to render it through.
 struct Shot {

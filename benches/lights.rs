@@ -21,13 +21,13 @@
 
 use glam::UVec2;
 use std::path::{Path, PathBuf};
-use tracer::compare::{rel_mse, two_seed_rel_mse};
 use tracer::image::RgbImage;
 use tracer::integrator::{IntegratorConfig, PathTracer};
 use tracer::lens::LensChain;
 use tracer::light::LightChoice;
 use tracer::render::{NoProgress, RenderSettings, render};
 use tracer::scene::{CameraSelector, Scene};
+use tracer::test_support::compare::{rel_mse, two_seed_rel_mse};
 
 /// A view of a scene and how it is measured.
 struct View {

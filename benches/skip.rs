@@ -10,12 +10,12 @@
 
 use glam::{UVec2, Vec3, Vec4};
 use std::path::Path;
-use tracer::compare::{Estimate, StatTest};
 use tracer::integrator::{IntegratorConfig, PathTracer};
 use tracer::lens::LensChain;
 use tracer::material::{AlphaMode, MaterialTextures};
 use tracer::render::{NoProgress, RenderSettings, Rendered, render};
 use tracer::scene::{CameraSelector, Scene};
+use tracer::test_support::compare::{Estimate, StatTest};
 use tracer::texture::{Texture, TextureRef};
 
 /// The same scene with every general code path switched on and every value neutral.

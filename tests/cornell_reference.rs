@@ -1,7 +1,7 @@
 //! The tracer core against an independent renderer: the bundled Cornell box, loaded both as glTF
 //! (`scenes/cornell/cornell.gltf`, camera `cornell`) and as the directory of OBJ parts (with the
 //! README's look-at camera), rendered at 256², 4 scattering vertices, and compared with Mitsuba
-//! 3's converged 16384-spp reference (`tests/data/cornell/`) by `tracer::compare`'s statistical
+//! 3's converged 16384-spp reference (`tests/data/cornell/`) by `tracer::test_support::compare`'s statistical
 //! test (docs/testing.md §2: per-pixel Šidák-corrected z-test on the render's own per-sample
 //! variance, plus an image-level bias check).
 //!
@@ -13,9 +13,9 @@
 //! than two independent renders do.
 
 use crate::common::*;
-use tracer::compare::{Estimate, rel_mse, statistical_test};
 use tracer::image::RgbImage;
 use tracer::render::Rendered;
+use tracer::test_support::compare::{Estimate, rel_mse, statistical_test};
 
 /// Samples per pixel: enough for a reliable per-pixel variance (the comparison module warns that
 /// a t-distributed z has heavy tails below 64; fireflies make it worse).

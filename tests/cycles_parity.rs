@@ -15,12 +15,12 @@
 //! another seed fails (docs/cycles.md, "spot_light").
 
 use crate::common::*;
-use tracer::compare::{Estimate, StatTest, rel_mse};
 use tracer::image::RgbImage;
 use tracer::integrator::IntegratorConfig;
 use tracer::lens::LensChain;
 use tracer::render::{NoProgress, RenderSettings, Rendered};
 use tracer::scene::{CameraSelector, Scene};
+use tracer::test_support::compare::{Estimate, StatTest, rel_mse};
 
 /// Samples per pixel of the test renders.
 const SPP: u32 = 512;

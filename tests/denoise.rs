@@ -13,13 +13,13 @@ use crate::common::golden::{golden_path, read_golden};
 use crate::common::{Scratch, cornell_config, cornell_gltf, mcctrace, repo_root};
 use glam::UVec2;
 use std::process::Command;
-use tracer::compare::rel_mse;
 use tracer::denoise::{Aux, DenoiseError, Denoiser, Guide, INSTALL_COMMAND, Quality, Settings};
 use tracer::image_io::{read_exr, read_png8};
 use tracer::integrator::{IntegratorConfig, PathTracer};
 use tracer::lens::LensChain;
 use tracer::render::{NoProgress, RenderSettings, render};
 use tracer::scene::{CameraSelector, Scene};
+use tracer::test_support::compare::rel_mse;
 
 /// The denoiser, or `None` after a note on a developer's machine without it; under CI
 /// (`MCCTRACE_CI=1`) its absence fails the test.

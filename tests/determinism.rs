@@ -18,10 +18,10 @@
 use crate::common::*;
 use glam::UVec2;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use tracer::compare::StatTest;
 use tracer::integrator::PathTracer;
 use tracer::lens::LensChain;
 use tracer::render::{NoProgress, Progress, RenderSettings, Rendered, render};
+use tracer::test_support::compare::StatTest;
 
 const SIZE: u32 = 96;
 const SPP: u32 = 64;

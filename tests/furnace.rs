@@ -20,11 +20,11 @@
 use crate::common::*;
 use glam::{UVec2, Vec3};
 use tracer::camera::{CameraDesc, Projection};
-use tracer::compare::{StatTest, statistical_test};
 use tracer::integrator::IntegratorConfig;
 use tracer::material::Material;
 use tracer::render::Rendered;
 use tracer::scene::{PunctualLight, Scene};
+use tracer::test_support::compare::{StatTest, statistical_test};
 
 const CENTRE: Vec3 = Vec3::new(1.0, -2.0, 3.0);
 const SPP: u32 = 64;

@@ -30,6 +30,7 @@ use tracer::camera::{CameraDesc, CameraSample, Projection};
 use tracer::integrator::{IntegratorConfig, PathTracer};
 use tracer::lens::LensChain;
 use tracer::scene::{CameraSelector, Scene};
+use tracer::test_support::Rng;
 
 /// Cornell renders: 48² at 256 spp (590k samples). Where the light is not in view, a 2 % gain
 /// error is a ≈ 20σ shift of the mean. Where it is, the pixels straddling its edge (samples of 17
@@ -260,7 +261,7 @@ fn inbetween_frame_through_the_lens_reader() {
 fn golden_files_round_trip_and_stay_compact() {
     // A golden written and read back is the same estimate, bit for bit, spp included.
     let mut rng = Rng::new(7);
-    let mut noise = |_| Vec3::new(rng.f32(), rng.f32(), rng.f32());
+    let mut noise = |_| Vec3::new(rng.unit(), rng.unit(), rng.unit());
     let (w, h) = (5, 3);
     let written = Sampled {
         mean: tracer::image::RgbImage { width: w, height: h, pixels: (0..w * h).map(&mut noise).collect() },

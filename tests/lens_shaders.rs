@@ -23,13 +23,13 @@ use glam::Vec3;
 use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
 use std::sync::{Arc, OnceLock};
 use tracer::camera::{CameraDesc, CameraSample};
-use tracer::compare::StatTest;
 use tracer::error::LensError;
 use tracer::image::RgbImage;
 use tracer::lens::{FrameContext, LensChain, LensShader};
 use tracer::ray::Ray;
 use tracer::render::Rendered;
 use tracer::scene::Scene;
+use tracer::test_support::compare::StatTest;
 
 const SIZE: u32 = 128;
 const SPP: u32 = 64;
@@ -141,8 +141,8 @@ fn columns_match(what: &str, a: &Rendered, b: (&RgbImage, &RgbImage), x0: u32, x
     let (am, av) = (crop_columns(&a.images.image, x0, x1), crop_columns(&a.images.variance, x0, x1));
     let (bm, bv) = (crop_columns(b.0, x0, x1), crop_columns(b.1, x0, x1));
     let report = StatTest::default().between(
-        tracer::compare::Estimate { mean: &am, variance: &av, samples: SPP },
-        tracer::compare::Estimate { mean: &bm, variance: &bv, samples: SPP },
+        tracer::test_support::compare::Estimate { mean: &am, variance: &av, samples: SPP },
+        tracer::test_support::compare::Estimate { mean: &bm, variance: &bv, samples: SPP },
     );
     println!("{what}:\n{report}");
     assert!(report.passed(), "{what}: images differ:\n{report}");

@@ -9,11 +9,11 @@
 
 use crate::common::*;
 use glam::UVec2;
-use tracer::compare::StatTest;
 use tracer::integrator::{IntegratorConfig, PathTracer};
 use tracer::lens::LensChain;
 use tracer::light::LightChoice;
 use tracer::scene::{CameraSelector, Scene};
+use tracer::test_support::compare::StatTest;
 
 #[test]
 fn cafe_with_the_tree_matches_choice_by_power() {

@@ -14,9 +14,9 @@
 use crate::common::golden::{Sampled, assert_darker_fails, check_golden};
 use crate::common::{CORNELL_SECOND_VIEW, Scratch, mcctrace};
 use std::path::Path;
-use tracer::compare::{Estimate, StatTest};
 use tracer::image::RgbImage;
 use tracer::image_io::read_exr;
+use tracer::test_support::compare::{Estimate, StatTest};
 
 const CORNELL: &str = "scenes/cornell/cornell.gltf";
 // 96² at 128 spp: enough samples that a 2 % bias shows (image-level z ≈ 7 > 5).

@@ -22,13 +22,14 @@ use crate::common::*;
 use glam::{Affine3A, UVec2, Vec3};
 use std::sync::OnceLock;
 use tracer::camera::{CameraDesc, Projection};
-use tracer::compare::{Estimate, StatTest};
 use tracer::integrator::{IntegratorConfig, PathTracer};
 use tracer::interaction::SurfaceInteraction;
 use tracer::material::Material;
 use tracer::ray::Ray;
 use tracer::render::Rendered;
 use tracer::scene::{Environment, Mesh, MeshPart, Scene};
+use tracer::test_support::Rng;
+use tracer::test_support::compare::{Estimate, StatTest};
 
 /// Film and samples of the Cornell comparisons: 128² at 64 spp (a 2 % bias gives z ≈ 9 here).
 const SIZE: u32 = 128;
@@ -107,7 +108,7 @@ fn cornell_far_from_the_origin_renders_the_same_image() {
 /// A random non-degenerate triangle of size about `size` centred at `centre`.
 fn random_triangle(rng: &mut Rng, centre: Vec3, size: f32) -> [Vec3; 3] {
     loop {
-        let [a, b, c] = [rng.unit_vector(), rng.unit_vector(), rng.unit_vector()];
+        let [a, b, c] = [rng.direction(), rng.direction(), rng.direction()];
         // Well-shaped enough to be a real triangle (area > 0.05, 4 % of the largest possible).
         if (b - a).cross(c - a).length() > 0.1 {
             return [a, b, c].map(|p| (centre.as_dvec3() + p.as_dvec3() * size as f64).as_vec3());
@@ -117,7 +118,7 @@ fn random_triangle(rng: &mut Rng, centre: Vec3, size: f32) -> [Vec3; 3] {
 
 /// A centre up to 1e4 from the origin: a random direction times a log-uniform distance.
 fn random_centre(rng: &mut Rng) -> Vec3 {
-    rng.unit_vector() * 10f32.powf(rng.range(-3.0, 4.0))
+    rng.direction() * 10f32.powf(rng.range(-3.0, 4.0))
 }
 
 fn scene_of(triangles: &[[Vec3; 3]]) -> Scene {
@@ -138,8 +139,8 @@ fn hit_on(tracer: &PathTracer, tri: [Vec3; 3], rng: &mut Rng) -> Option<SurfaceI
     let n = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize();
     let size = (tri[1] - tri[0]).length().max((tri[2] - tri[0]).length());
     let reach = size.max(1e3 * f32::EPSILON * target.abs().max_element());
-    let side = if rng.f32() < 0.5 { n } else { -n };
-    let mut w = rng.unit_vector();
+    let side = if rng.unit() < 0.5 { n } else { -n };
+    let mut w = rng.direction();
     if w.dot(side) < 0.0 {
         w = -w;
     }
@@ -154,11 +155,11 @@ fn hit_on(tracer: &PathTracer, tri: [Vec3; 3], rng: &mut Rng) -> Option<SurfaceI
 fn spawn_directions(n: Vec3, rng: &mut Rng) -> Vec<Vec3> {
     let mut out = Vec::new();
     for _ in 0..4 {
-        let w = rng.unit_vector();
+        let w = rng.direction();
         out.push(w);
         out.push((w - 2.0 * w.dot(n) * n).normalize());
     }
-    let tangent = (rng.unit_vector() - n * rng.unit_vector().dot(n)).cross(n).normalize();
+    let tangent = (rng.direction() - n * rng.direction().dot(n)).cross(n).normalize();
     for eps in [1e-2f32, 1e-4, 1e-6] {
         for sign in [1.0f32, -1.0] {
             out.push((tangent + sign * eps * n).normalize());
@@ -269,7 +270,7 @@ fn shadow_rays_are_not_blocked_by_either_end() {
             let centre = random_centre(&mut rng);
             let big = size_a.max(size_b);
             let a = random_triangle(&mut rng, centre, size_a);
-            let centre_b = centre + rng.unit_vector() * big * rng.range(0.5, 5.0);
+            let centre_b = centre + rng.direction() * big * rng.range(0.5, 5.0);
             let b = random_triangle(&mut rng, centre_b, size_b);
             let scene = scene_of(&[a, b]);
             let tracer = PathTracer::new(&scene, IntegratorConfig::DEFAULT).unwrap();

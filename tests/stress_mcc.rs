@@ -22,37 +22,7 @@ use mcc::slerp::slerp;
 use mcc::test_util::{view, weights_by_product};
 use mcc::{Collage, RayFile, Regions, RemapConfig, StoredRay, remap};
 use std::collections::BTreeMap;
-
-/// Deterministic inputs: SplitMix64.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [0, 1).
-    fn unit(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    /// Uniform on the sphere, in f64.
-    fn direction(&mut self) -> DVec3 {
-        let z = 1.0 - 2.0 * self.unit();
-        let r = (1.0 - z * z).max(0.0).sqrt();
-        let phi = std::f64::consts::TAU * self.unit();
-        DVec3::new(r * phi.cos(), r * phi.sin(), z)
-    }
-
-    /// Log-uniform in [lo, hi).
-    fn log_uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        (lo.ln() + (hi.ln() - lo.ln()) * self.unit()).exp()
-    }
-}
+use tracer::test_support::Rng;
 
 /// The angle between two vectors, accurate over [0, π] (f64).
 fn angle(a: DVec3, b: DVec3) -> f64 {
@@ -62,7 +32,7 @@ fn angle(a: DVec3, b: DVec3) -> f64 {
 
 /// A unit f32 vector exactly (to f32) at angle `theta` from unit `a` in a random plane.
 fn at_angle(rng: &mut Rng, a: DVec3, theta: f64) -> DVec3 {
-    let p = rng.direction();
+    let p = rng.direction_f64();
     let u = (p - a * a.dot(p)).normalize();
     a * theta.cos() + u * theta.sin()
 }
@@ -80,13 +50,13 @@ fn slerp64(a: DVec3, b: DVec3, t: f64) -> Option<DVec3> {
 #[test]
 fn slerp_of_random_pairs_near_parallel_and_near_opposite() {
     use std::f64::consts::PI;
-    let mut rng = Rng(1);
+    let mut rng = Rng::new(1);
     let (mut worst_angle, mut worst_ref, mut worst_len) = (0.0f64, 0.0f64, 0.0f64);
     for i in 0..100_000 {
-        let a = rng.direction().as_vec3().normalize();
+        let a = rng.direction_f64().as_vec3().normalize();
         let a64 = a.as_dvec3();
         let b = match i % 4 {
-            0 => rng.direction(),
+            0 => rng.direction_f64(),
             1 => {
                 let th = rng.log_uniform(1e-8, 1e-1);
                 at_angle(&mut rng, a64, th)
@@ -101,7 +71,7 @@ fn slerp_of_random_pairs_near_parallel_and_near_opposite() {
         .normalize();
         let b64 = b.as_dvec3();
         let theta = angle(a64, b64);
-        for t in [rng.unit() as f32, 0.5, 1e-3, 1.0 - 1e-3] {
+        for t in [rng.unit_f64() as f32, 0.5, 1e-3, 1.0 - 1e-3] {
             let r = slerp(a, b, t);
             let r64 = r.as_dvec3();
             assert!(r.is_finite(), "slerp({a}, {b}, {t}) = {r}");
@@ -164,11 +134,11 @@ fn burp64(directions: &[DVec3], weights: &[f64]) -> (DVec3, bool) {
 
 #[test]
 fn burp_of_random_direction_sets() {
-    let mut rng = Rng(2);
+    let mut rng = Rng::new(2);
     let (mut checked, mut ill_conditioned, mut worst) = (0u32, 0u32, 0.0f64);
     for i in 0..100_000 {
-        let n = if i % 100 == 0 { 63 } else { 1 + (rng.next() % 8) as usize };
-        let base = rng.direction();
+        let n = if i % 100 == 0 { 63 } else { 1 + (rng.next_u64() % 8) as usize };
+        let base = rng.direction_f64();
         let directions: Vec<Vec3> = (0..n)
             .map(|k| {
                 let d = match (i % 3, k % 3) {
@@ -183,10 +153,10 @@ fn burp_of_random_direction_sets() {
                     }
                     // Another third are a cone of nearby directions (neighbouring eye rays).
                     (1, _) => {
-                        let th = rng.unit() * 0.5;
+                        let th = rng.unit_f64() * 0.5;
                         at_angle(&mut rng, base, th)
                     }
-                    _ => rng.direction(),
+                    _ => rng.direction_f64(),
                 };
                 d.as_vec3().normalize()
             })
@@ -223,7 +193,7 @@ fn burp_of_random_direction_sets() {
 
 #[test]
 fn weights_of_63_cameras() {
-    let mut rng = Rng(3);
+    let mut rng = Rng::new(3);
     let mut alpha = vec![0.0; 63];
     for case in 0..2000 {
         let d: Vec<f64> = (0..63)
@@ -327,13 +297,13 @@ fn one_by_one_and_one_by_n_collages() {
     );
     assert!(err.is_err(), "a collage with no camera pixel must be an error");
     // 1 × N and N × 1 with facing cameras, background runs between them, and at the ends.
-    let mut rng = Rng(4);
+    let mut rng = Rng::new(4);
     for n in [2u32, 3, 7, 64, 257] {
         for _ in 0..4 {
             let ids: Vec<u32> = (0..n)
-                .map(|_| match rng.next() % 4 {
+                .map(|_| match rng.next_u64() % 4 {
                     0 | 1 => 0,
-                    k => (k as u32) + (rng.next() % 3) as u32, // ids 2 … 5
+                    k => (k as u32) + (rng.next_u64() % 3) as u32, // ids 2 … 5
                 })
                 .collect();
             if ids.iter().all(|&id| id == 0) {

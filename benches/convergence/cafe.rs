@@ -6,7 +6,7 @@
 //! filter), Blender's spot falloff (as `cafe.sh` passes `--spot-falloff blender`), at 1, 2, 4, … 256 spp with seeds 1 and 2 on the default rayon pool. A point's time
 //! is the wall time of preparing the scene (BVH, light tree) and rendering, the mean of its two
 //! seeds — what Cycles' render call covers; its error is the variance part of relMSE from the
-//! two seeds (`tracer::compare::two_seed_rel_mse`), denominators from the mean of the two
+//! two seeds (`tracer::test_support::compare::two_seed_rel_mse`), denominators from the mean of the two
 //! 256-spp renders. Cycles is drawn as its line of constant time × relMSE, measured on this
 //! machine by `benches/peers/cycles/cafe.sh` (`CYCLES_PRODUCT` below), and the target as half of
 //! it. Writes `target/convergence/cafe.csv` (`spp,seconds,rel_mse`) and `cafe.png`.
@@ -17,13 +17,13 @@ use plotters::prelude::*;
 use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
-use tracer::compare::two_seed_rel_mse;
 use tracer::image::RgbImage;
 use tracer::integrator::{IntegratorConfig, PathTracer};
 use tracer::job::SceneSetup;
 use tracer::lens::LensChain;
 use tracer::render::{NoProgress, RenderSettings, render};
 use tracer::scene::{CameraSelector, SpotFalloff};
+use tracer::test_support::compare::two_seed_rel_mse;
 
 const SIZE: UVec2 = UVec2::new(240, 135);
 const LAST_SPP: u32 = 256;

@@ -8,7 +8,7 @@
 //! first-vertex splitting into 2 paths (`--split 2`, up to 128 spp), times each by the
 //! render's own `stats.seconds` (tracing only; best of a few runs — the image is the same each
 //! run, the seed being fixed), measures relMSE against the Mitsuba 3 reference with
-//! `tracer::compare::rel_mse` (mean over pixels and channels of (x − r)² / (r² + 0.01)), and
+//! `tracer::test_support::compare::rel_mse` (mean over pixels and channels of (x − r)² / (r² + 0.01)), and
 //! writes
 //!
 //! - `target/convergence/cornell.csv`, `cornell-adaptive.csv`, `cornell-split2.csv` and
@@ -24,11 +24,11 @@ use glam::UVec2;
 use plotters::prelude::*;
 use std::fmt::Write as _;
 use std::path::Path;
-use tracer::compare::rel_mse;
 use tracer::integrator::{IntegratorConfig, PathTracer};
 use tracer::lens::LensChain;
 use tracer::render::{NoProgress, RenderSettings, render};
 use tracer::scene::{CameraSelector, Scene};
+use tracer::test_support::compare::rel_mse;
 
 const SIZE: u32 = 256;
 const SEED: u32 = 7;

@@ -19,9 +19,9 @@ use glam::Vec3;
 use mcc::{RayFile, StoredRay};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use tracer::compare::{Estimate, StatTest, mse};
 use tracer::image::RgbImage;
 use tracer::image_io::read_exr;
+use tracer::test_support::compare::{Estimate, StatTest, mse};
 
 // Scene time: an animated glTF written here, rendered at several frames and rates.
 mod scene_time;

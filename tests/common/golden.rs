@@ -10,10 +10,10 @@
 //! test with the command that blesses it. A golden with NaN/Inf samples is never written.
 
 use std::path::{Path, PathBuf};
-use tracer::compare::{Estimate, StatReport, StatTest};
 use tracer::image::RgbImage;
 use tracer::image_io::{Aov, read_exr, write_exr};
 use tracer::render::Rendered;
+use tracer::test_support::compare::{Estimate, StatReport, StatTest};
 
 /// Seed of every golden render; tests use [`TEST_SEED`], so their samples are independent of the
 /// golden's (random numbers are a function of pixel, sample index, dimension and seed).
@@ -55,7 +55,7 @@ impl Sampled {
         }
     }
 
-    /// The borrowed estimate `tracer::compare` takes.
+    /// The borrowed estimate `tracer::test_support::compare` takes.
     pub fn estimate(&self) -> Estimate<'_> {
         Estimate { mean: &self.mean, variance: &self.variance, samples: self.spp }
     }

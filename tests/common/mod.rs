@@ -1,6 +1,7 @@
 //! Helpers shared by the end-to-end tests: the bundled Cornell box and its independent reference,
 //! a render wrapper on a pool of a chosen size, analytic geometry built in code (icospheres,
-//! planes), a seeded random generator, and small image utilities. Each test file uses a subset.
+//! planes), and small image utilities. Each test file uses a subset; random test inputs come from
+//! `tracer::test_support::Rng`.
 #![allow(dead_code)]
 
 pub mod child;
@@ -11,13 +12,13 @@ use glam::{UVec2, Vec2, Vec3};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use tracer::camera::{CameraDesc, Projection};
-use tracer::compare::Estimate;
 use tracer::image::RgbImage;
 use tracer::integrator::{IntegratorConfig, PathTracer};
 use tracer::lens::LensChain;
 use tracer::material::Material;
 use tracer::render::{NoProgress, RenderSettings, Rendered, render};
 use tracer::scene::{CameraSelector, Mesh, MeshPart, Scene};
+use tracer::test_support::compare::Estimate;
 
 /// `render` flags of the Cornell box's second view for collages: to the right of the scene's
 /// camera, turned towards the box.
@@ -125,7 +126,7 @@ pub fn render_plain(scene: &Scene, camera: &CameraDesc, job: Job) -> Rendered {
     render_with(scene, camera, &mut LensChain::new(), job)
 }
 
-/// The estimate (mean, per-sample variance, spp) of a render, for `tracer::compare`.
+/// The estimate (mean, per-sample variance, spp) of a render, for `tracer::test_support::compare`.
 pub fn estimate(r: &Rendered) -> Estimate<'_> {
     Estimate { mean: &r.images.image, variance: &r.images.variance, samples: spp_of(r) }
 }
@@ -214,57 +215,6 @@ pub fn scaled(image: &RgbImage, k: f32) -> RgbImage {
 /// An image of one constant colour.
 pub fn constant_image(width: u32, height: u32, value: Vec3) -> RgbImage {
     RgbImage { width, height, pixels: vec![value; (width * height) as usize] }
-}
-
-/// Deterministic random numbers for test inputs: SplitMix64-seeded PCG32 (O'Neill).
-pub struct Rng(u64);
-
-impl Rng {
-    pub fn new(seed: u64) -> Self {
-        let mut z = seed.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        Self(z ^ (z >> 31))
-    }
-
-    pub fn next_u32(&mut self) -> u32 {
-        let old = self.0;
-        self.0 = old.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-        let xorshifted = (((old >> 18) ^ old) >> 27) as u32;
-        xorshifted.rotate_right((old >> 59) as u32)
-    }
-
-    /// Uniform in [0, 1).
-    pub fn f32(&mut self) -> f32 {
-        (self.next_u32() >> 8) as f32 / (1u32 << 24) as f32
-    }
-
-    /// Uniform in [lo, hi).
-    pub fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * self.f32()
-    }
-
-    /// Uniform on the unit sphere.
-    pub fn unit_vector(&mut self) -> Vec3 {
-        let z = 1.0 - 2.0 * self.f32();
-        let r = (1.0 - z * z).max(0.0).sqrt();
-        let phi = std::f32::consts::TAU * self.f32();
-        Vec3::new(r * phi.cos(), r * phi.sin(), z)
-    }
-
-    /// Uniform in the cube [−h, h]³.
-    pub fn in_cube(&mut self, h: f32) -> Vec3 {
-        Vec3::new(self.range(-h, h), self.range(-h, h), self.range(-h, h))
-    }
-
-    /// Uniform barycentric coordinates on a triangle.
-    pub fn barycentrics(&mut self) -> [f32; 3] {
-        let (mut u, mut v) = (self.f32(), self.f32());
-        if u + v > 1.0 {
-            (u, v) = (1.0 - u, 1.0 - v);
-        }
-        [1.0 - u - v, u, v]
-    }
 }
 
 /// An icosphere: the icosahedron subdivided `levels` times (20 · 4^levels triangles), every

@@ -13,11 +13,11 @@ use crate::common::golden::{Sampled, check_golden};
 use crate::common::*;
 use glam::{UVec2, Vec3, Vec4};
 use tracer::camera::{CameraDesc, Projection};
-use tracer::compare::StatTest;
 use tracer::integrator::{IntegratorConfig, PathTracer};
 use tracer::job::SceneSetup;
 use tracer::lens::LensChain;
 use tracer::scene::{PunctualLight, Scene};
+use tracer::test_support::compare::StatTest;
 
 const SIZE: UVec2 = UVec2::new(96, 72);
 const SPP: u32 = 64;

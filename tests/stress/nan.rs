@@ -11,11 +11,12 @@ use super::scene::{
 use crate::common::*;
 use glam::{UVec2, Vec2, Vec3, Vec4};
 use tracer::camera::{CameraDesc, Projection};
-use tracer::compare::StatTest;
 use tracer::integrator::PathTracer;
 use tracer::lens::LensChain;
 use tracer::render::Rendered;
 use tracer::scene::{Environment, Mesh, MeshPart, PunctualLight, Scene};
+use tracer::test_support::Rng;
+use tracer::test_support::compare::StatTest;
 
 /// What is wrong with a render's numbers (NaN/Inf samples counted by the film, or a non-finite
 /// pixel or variance), if anything.
@@ -159,12 +160,12 @@ fn push_degenerate(mesh: &mut Mesh, rng: &mut Rng, material: u32, count: usize) 
         });
     }
     let uvs: Vec<Vec2> = (0..positions.len())
-        .map(|v| if (v / 3) % 2 == 0 { Vec2::splat(0.5) } else { Vec2::new(rng.f32(), rng.f32()) })
+        .map(|v| if (v / 3) % 2 == 0 { Vec2::splat(0.5) } else { Vec2::new(rng.unit(), rng.unit()) })
         .collect();
     let normals: Vec<Vec3> = (0..positions.len())
         .map(|v| match (v / 3) % 3 {
             0 => Vec3::ZERO,
-            1 => rng.unit_vector(),
+            1 => rng.direction(),
             _ => {
                 if v % 2 == 0 {
                     Vec3::Y

@@ -12,11 +12,11 @@ use crate::common::*;
 use glam::{UVec2, Vec3};
 use std::sync::OnceLock;
 use tracer::camera::CameraDesc;
-use tracer::compare::{Estimate, StatTest};
 use tracer::integrator::IntegratorConfig;
 use tracer::material::{AlphaMode, Material, MaterialTextures};
 use tracer::render::Rendered;
 use tracer::scene::{Environment, Mesh, MeshPart, Scene};
+use tracer::test_support::compare::{Estimate, StatTest};
 use tracer::texture::{Texture, TextureRef};
 
 /// Film size and samples of the comparisons: 32² at 64 spp (docs/testing.md §2: N ≥ 64 for the

@@ -69,7 +69,7 @@ async fn the_preview_series_is_the_rerender_and_converges_as_one_over_spp() {
         rerender(&project, RES, spp, &batch);
         let expected = srgb8(&read_exr_rgb(&batch).unwrap());
         assert!(*preview == expected, "the preview at {spp} spp is not `mcctrace rerender --spp {spp}`");
-        let error = tracer::compare::rel_mse(&shown(preview), &reference);
+        let error = tracer::test_support::compare::rel_mse(&shown(preview), &reference);
         println!("preview at {spp:>2} spp: relMSE {error:.5}, × spp {:.4}", error * spp as f64);
         scaled.push(error * spp as f64);
     }

@@ -12,8 +12,6 @@ pub mod atomic;
 pub mod bsdf;
 pub mod bvh;
 pub mod camera;
-#[cfg(any(test, feature = "test-support"))]
-pub mod compare;
 pub mod denoise;
 pub mod error;
 pub mod film;
@@ -22,8 +20,6 @@ pub mod image_io;
 pub mod integrator;
 pub mod interaction;
 pub mod job;
-#[cfg(test)]
-mod lcg;
 pub mod lens;
 pub mod light;
 pub mod material;
@@ -33,6 +29,8 @@ pub mod sampler;
 pub mod sampling;
 pub mod scene;
 pub mod shading;
+#[cfg(any(test, feature = "test-support"))]
+pub mod test_support;
 pub mod texture;
 mod triangle;
 

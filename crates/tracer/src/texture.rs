@@ -319,12 +319,12 @@ mod tests {
     /// and changes no bit.
     #[test]
     fn integer_texels_filter_as_their_float_copies() {
-        let mut rng = crate::lcg::Lcg(0x9e37_79b9);
+        let mut rng = crate::test_support::Rng::new(0x9e37_79b9);
         let (w, h) = (5, 3);
         let codes8: Vec<[u8; 4]> =
-            (0..w * h).map(|_| [0; 4].map(|_: u8| (rng.next() * 256.0) as u8)).collect();
+            (0..w * h).map(|_| [0; 4].map(|_: u8| (rng.unit() * 256.0) as u8)).collect();
         let codes16: Vec<[u16; 4]> =
-            (0..w * h).map(|_| [0; 4].map(|_: u16| (rng.next() * 65536.0) as u16)).collect();
+            (0..w * h).map(|_| [0; 4].map(|_: u16| (rng.unit() * 65536.0) as u16)).collect();
         let float8: Vec<Vec4> =
             codes8.iter().map(|c| Vec4::from_array(c.map(|v| v as f32 / 255.0))).collect();
         let float16: Vec<Vec4> =
@@ -338,7 +338,7 @@ mod tests {
                 let a = Texture::from_texels("codes", w, h, codes, srgb);
                 let b = Texture::from_texels("floats", w, h, floats, srgb);
                 for _ in 0..2000 {
-                    let uv = Vec2::new(rng.next(), rng.next()) * 6.0 - 3.0;
+                    let uv = Vec2::new(rng.unit(), rng.unit()) * 6.0 - 3.0;
                     for wrap in [Wrap::Repeat, Wrap::ClampToEdge, Wrap::MirroredRepeat] {
                         for filter in [Filter::Nearest, Filter::Linear] {
                             let (x, y) = (a.sample(uv, [wrap; 2], filter), b.sample(uv, [wrap; 2], filter));

@@ -2,17 +2,21 @@
 //! and in rigid motion at random times; what a spawned ray skips in a copy; memory per copy.
 
 use super::*;
-use crate::lcg::Lcg;
 use crate::scene::{Instance, InstanceMesh, MeshPart, RigidMotion, SceneInstances};
+use crate::test_support::Rng;
 use crate::triangle::{WatertightRay, safe_reciprocal};
 use glam::Quat;
 
 /// A small blob of random triangles around the origin.
-fn blob(rng: &mut Lcg, n: usize) -> InstanceMesh {
+fn blob(rng: &mut Rng, n: usize) -> InstanceMesh {
     let mut mesh = InstanceMesh::default();
     for k in 0..n as u32 {
-        let c = rng.vec() * 0.8;
-        mesh.positions.extend([c + rng.vec() * 0.3, c + rng.vec() * 0.3, c + rng.vec() * 0.3]);
+        let c = rng.in_cube(1.0) * 0.8;
+        mesh.positions.extend([
+            c + rng.in_cube(1.0) * 0.3,
+            c + rng.in_cube(1.0) * 0.3,
+            c + rng.in_cube(1.0) * 0.3,
+        ]);
         mesh.triangles.push([3 * k, 3 * k + 1, 3 * k + 2]);
     }
     mesh
@@ -20,14 +24,14 @@ fn blob(rng: &mut Lcg, n: usize) -> InstanceMesh {
 
 /// A random placement: any rotation, scale 0.5 … 2 per axis (some mirrored), within 8 of the
 /// origin.
-fn placement(rng: &mut Lcg, mirror: bool) -> Affine3A {
-    let axis = (rng.vec() + Vec3::splat(1e-3)).normalize();
-    let scale = Vec3::new(0.5 + 1.5 * rng.next(), 0.5 + 1.5 * rng.next(), 0.5 + 1.5 * rng.next());
+fn placement(rng: &mut Rng, mirror: bool) -> Affine3A {
+    let axis = (rng.in_cube(1.0) + Vec3::splat(1e-3)).normalize();
+    let scale = Vec3::new(0.5 + 1.5 * rng.unit(), 0.5 + 1.5 * rng.unit(), 0.5 + 1.5 * rng.unit());
     let scale = if mirror { scale * Vec3::new(-1.0, 1.0, 1.0) } else { scale };
     Affine3A::from_scale_rotation_translation(
         scale,
-        Quat::from_axis_angle(axis, 6.0 * rng.next()),
-        rng.vec() * 8.0,
+        Quat::from_axis_angle(axis, 6.0 * rng.unit()),
+        rng.in_cube(1.0) * 8.0,
     )
 }
 
@@ -35,7 +39,7 @@ fn placement(rng: &mut Lcg, mirror: bool) -> Affine3A {
 /// re-winds), a few loose triangles, and the flattened mesh the scene would carry. `moving`:
 /// every other copy turns up to 130° per step over three steps in time 0 … 1.
 fn scene(copies: usize, moving: bool) -> (Mesh, SceneInstances) {
-    let mut rng = Lcg(0x51ce);
+    let mut rng = Rng::new(0x51ce);
     let mut instances =
         SceneInstances { meshes: vec![blob(&mut rng, 40), blob(&mut rng, 25)], instances: vec![] };
     let mirrored: Vec<InstanceMesh> = instances
@@ -48,18 +52,20 @@ fn scene(copies: usize, moving: bool) -> (Mesh, SceneInstances) {
         .collect();
     instances.meshes.extend(mirrored);
     let mut mesh = Mesh::default();
-    let loose: Vec<Vec3> = (0..30).map(|_| rng.vec() * 9.0).collect();
+    let loose: Vec<Vec3> = (0..30).map(|_| rng.in_cube(1.0) * 9.0).collect();
     mesh.push(MeshPart { positions: &loose, normals: None, uvs: None, indices: None, material: 0 }).unwrap();
     for k in 0..copies {
         let mirror = k % 3 == 2;
         let m = (k % 2) as u32 + if mirror { 2 } else { 0 };
         let world = placement(&mut rng, mirror);
         let motion = (moving && k % 2 == 0).then(|| {
-            let axis = rng.vec().normalize();
+            let axis = rng.in_cube(1.0).normalize();
             let steps: Vec<Affine3A> = (0..3)
                 .map(|s| {
-                    let turn = Quat::from_axis_angle(axis, s as f32 * (1.0 + 1.3 * rng.next()));
-                    Affine3A::from_translation(rng.vec() * s as f32) * Affine3A::from_quat(turn) * world
+                    let turn = Quat::from_axis_angle(axis, s as f32 * (1.0 + 1.3 * rng.unit()));
+                    Affine3A::from_translation(rng.in_cube(1.0) * s as f32)
+                        * Affine3A::from_quat(turn)
+                        * world
                 })
                 .collect();
             RigidMotion::from_steps(0.0, 1.0, &steps).unwrap()
@@ -112,19 +118,19 @@ fn check_against_brute_force(moving: bool) {
     let bvh = Bvh::build_scene(&mesh, None, Some(&instances));
     assert_eq!(bvh.len(), mesh.triangle_count());
     assert_eq!(bvh.has_motion(), moving);
-    let mut rng = Lcg(77);
+    let mut rng = Rng::new(77);
     let (mut hits, mut misses) = (0, 0);
     for _ in 0..4000 {
-        let time = if moving { rng.next() } else { 0.0 };
+        let time = if moving { rng.unit() } else { 0.0 };
         let tris = world_triangles(&mesh, &instances, time);
         // Half the rays at a random triangle's centre where it is at the ray's time: moving
         // copies are hit all along their arcs, far from where the steps have them.
-        let o = rng.vec() * 12.0;
-        let d = if rng.next() < 0.5 {
-            let t = &tris[((rng.next() * tris.len() as f32) as usize).min(tris.len() - 1)];
+        let o = rng.in_cube(1.0) * 12.0;
+        let d = if rng.unit() < 0.5 {
+            let t = &tris[((rng.unit() * tris.len() as f32) as usize).min(tris.len() - 1)];
             ((t[0] + t[1] + t[2]) / 3.0 - o).normalize()
         } else {
-            rng.vec().normalize()
+            rng.in_cube(1.0).normalize()
         };
         let ray = Ray::new(o, d, time);
         let want = brute_closest(&tris, o, d);
@@ -185,12 +191,12 @@ fn moving_instances_match_brute_force_at_random_times() {
 fn spawned_rays_skip_the_copy_they_leave() {
     let (mesh, instances) = scene(60, false);
     let bvh = Bvh::build_scene(&mesh, None, Some(&instances));
-    let mut rng = Lcg(3);
+    let mut rng = Rng::new(3);
     let mut checked = 0;
     for _ in 0..3000 {
-        let ray = Ray::new(rng.vec() * 12.0, rng.vec().normalize(), 0.0);
+        let ray = Ray::new(rng.in_cube(1.0) * 12.0, rng.in_cube(1.0).normalize(), 0.0);
         let Some(h) = bvh.intersect(&ray, f32::INFINITY) else { continue };
-        let d = rng.vec().normalize();
+        let d = rng.in_cube(1.0).normalize();
         let leaving = bvh.leaving(h.slot, d);
         assert!(leaving.skips(h.slot));
         let next = bvh.intersect_from(&Ray::new(ray.at(h.t), d, 0.0), f32::INFINITY, leaving, |_, _| true);
@@ -229,7 +235,7 @@ fn memory_grows_with_the_meshes_not_the_copies() {
 /// along the arc, not the union of the steps').
 #[test]
 fn a_turning_copy_is_found_all_along_its_arc() {
-    let mut rng = Lcg(5);
+    let mut rng = Rng::new(5);
     // The mesh lies 10 from its own origin, which the rotation turns about (a translation
     // would be interpolated linearly, along the chord, as Cycles interpolates it).
     let mut local = blob(&mut rng, 10);
@@ -251,7 +257,7 @@ fn a_turning_copy_is_found_all_along_its_arc() {
         let tris = world_triangles(&mesh, &instances, time);
         let t = &tris[k % tris.len()];
         let target = (t[0] + t[1] + t[2]) / 3.0;
-        let o = Vec3::new(0.0, 0.0, 20.0) + rng.vec();
+        let o = Vec3::new(0.0, 0.0, 20.0) + rng.in_cube(1.0);
         let ray = Ray::new(o, (target - o).normalize(), time);
         let want = brute_closest(&tris, o, ray.direction);
         let got = bvh.intersect(&ray, f32::INFINITY);

@@ -186,8 +186,8 @@ mod tests {
     /// predicate gives when asked about every corner, shared ones included.
     #[test]
     fn shared_corners_are_on_the_plane_as_the_predicate_says() {
-        let mut rng = crate::lcg::Lcg(0x2545_f491);
-        let mut next = move || rng.next() * 2.0 - 1.0;
+        let mut rng = crate::test_support::Rng::new(0x2545_f491);
+        let mut next = move || rng.unit() * 2.0 - 1.0;
         for round in 0..500 {
             // A fan around a centre: rim points on a tilted plane, some lifted off it.
             let centre = [next(), next(), next()];

@@ -2,8 +2,8 @@
 //! cannot hit, obvhs's traps.
 
 use super::*;
-use crate::lcg::Lcg;
 use crate::scene::MeshPart;
+use crate::test_support::Rng;
 use crate::triangle::{WatertightRay, safe_reciprocal};
 use glam::Vec3;
 
@@ -30,18 +30,19 @@ fn brute_closest(tris: &[[Vec3; 3]], o: Vec3, d: Vec3) -> Option<(usize, f32)> {
 #[test]
 fn matches_brute_force_at_every_scale() {
     for scale in [1e-4f32, 1e-2, 1.0, 1e2, 1e4, 1e-39, 1e20, 1e30, 1e37] {
-        let mut rng = Lcg(7);
+        let mut rng = Rng::new(7);
         let tris: Vec<[Vec3; 3]> = (0..300)
             .map(|_| {
-                let c = rng.vec() * 5.0;
-                [c + rng.vec() * 0.4, c + rng.vec() * 0.4, c + rng.vec() * 0.4].map(|p| p * scale)
+                let c = rng.in_cube(1.0) * 5.0;
+                [c + rng.in_cube(1.0) * 0.4, c + rng.in_cube(1.0) * 0.4, c + rng.in_cube(1.0) * 0.4]
+                    .map(|p| p * scale)
             })
             .collect();
         let mesh = mesh_of(&tris);
         let bvh = Bvh::build(&mesh);
         for _ in 0..2000 {
-            let o = rng.vec() * 6.0 * scale;
-            let d = rng.vec().normalize();
+            let o = rng.in_cube(1.0) * 6.0 * scale;
+            let d = rng.in_cube(1.0).normalize();
             let ray = Ray::new(o, d, 0.0);
             let brute = brute_closest(&tris, o, d);
             let got = bvh.intersect(&ray, f32::INFINITY).map(|h| (h.triangle as usize, h.t));
@@ -58,17 +59,17 @@ fn matches_brute_force_at_every_scale() {
 /// nodes, and both queries fall back to testing every triangle: the same answers.
 #[test]
 fn stack_overflow_falls_back_to_every_triangle() {
-    let mut rng = Lcg(9);
+    let mut rng = Rng::new(9);
     let tris: Vec<[Vec3; 3]> = (0..2000)
         .map(|_| {
-            let c = rng.vec() * 5.0;
-            [c + rng.vec() * 0.3, c + rng.vec() * 0.3, c + rng.vec() * 0.3]
+            let c = rng.in_cube(1.0) * 5.0;
+            [c + rng.in_cube(1.0) * 0.3, c + rng.in_cube(1.0) * 0.3, c + rng.in_cube(1.0) * 0.3]
         })
         .collect();
     let bvh = Bvh::build(&mesh_of(&tris));
     let mut overflows = 0;
     for _ in 0..1000 {
-        let ray = Ray::new(rng.vec() * 6.0, rng.vec().normalize(), 0.0);
+        let ray = Ray::new(rng.in_cube(1.0) * 6.0, rng.in_cube(1.0).normalize(), 0.0);
         let q = QueryRay::new(&ray);
         let walked =
             walk::<1, true, _>(&bvh.fixed(), &q, f32::INFINITY, Leaving::NOTHING, &mut |_, _, _| Step::Miss);
@@ -89,18 +90,19 @@ fn stack_overflow_falls_back_to_every_triangle() {
 #[test]
 fn axis_parallel_rays_match_brute_force_in_huge_scenes() {
     for scale in [1.0f32, 1e6, 1e11, 1e15, 1e20, 1e30] {
-        let mut rng = Lcg(8);
+        let mut rng = Rng::new(8);
         let tris: Vec<[Vec3; 3]> = (0..400)
             .map(|_| {
-                let c = rng.vec() * 5.0;
-                [c + rng.vec() * 0.6, c + rng.vec() * 0.6, c + rng.vec() * 0.6].map(|p| p * scale)
+                let c = rng.in_cube(1.0) * 5.0;
+                [c + rng.in_cube(1.0) * 0.6, c + rng.in_cube(1.0) * 0.6, c + rng.in_cube(1.0) * 0.6]
+                    .map(|p| p * scale)
             })
             .collect();
         let bvh = Bvh::build(&mesh_of(&tris));
         let mut hits = 0;
         for i in 0..3000 {
             let d = [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z][i % 6];
-            let o = (rng.vec() * 5.0 - d * 7.0) * scale;
+            let o = (rng.in_cube(1.0) * 5.0 - d * 7.0) * scale;
             let ray = Ray::new(o, d, 0.0);
             let brute = brute_closest(&tris, o, d);
             let got = bvh.intersect(&ray, f32::INFINITY).map(|h| (h.triangle as usize, h.t));
@@ -121,13 +123,13 @@ fn axis_parallel_rays_match_brute_force_in_huge_scenes() {
 /// and this test fails.)
 #[test]
 fn leaving_skips_nothing_a_spawned_ray_can_hit() {
-    let mut rng = Lcg(11);
+    let mut rng = Rng::new(11);
     let mut tris: Vec<[Vec3; 3]> = Vec::new();
     for _ in 0..40 {
-        let c = rng.vec() * 3.0;
-        let axis = rng.vec().normalize();
-        let rot = glam::Quat::from_axis_angle(axis, rng.next() * 6.0);
-        let h = Vec3::new(rng.next(), rng.next(), rng.next()) * 0.4 + Vec3::splat(0.05);
+        let c = rng.in_cube(1.0) * 3.0;
+        let axis = rng.in_cube(1.0).normalize();
+        let rot = glam::Quat::from_axis_angle(axis, rng.unit() * 6.0);
+        let h = Vec3::new(rng.unit(), rng.unit(), rng.unit()) * 0.4 + Vec3::splat(0.05);
         let corner = |i: u32| {
             let s = Vec3::new(
                 [-1.0, 1.0][(i & 1) as usize],
@@ -145,29 +147,29 @@ fn leaving_skips_nothing_a_spawned_ray_can_hit() {
         }
     }
     for fold in [0.0, 1e-6, -1e-6, 0.3, -0.3].repeat(12) {
-        let p0 = rng.vec() * 3.0;
-        let (p1, p2) = (p0 + rng.vec() * 0.6, p0 + rng.vec() * 0.6);
+        let p0 = rng.in_cube(1.0) * 3.0;
+        let (p1, p2) = (p0 + rng.in_cube(1.0) * 0.6, p0 + rng.in_cube(1.0) * 0.6);
         let n = (p1 - p0).cross(p2 - p0).normalize();
         tris.push([p0, p1, p2]);
         tris.push([p0, p2, p0 + (p2 - p1) + fold * n]);
     }
     for _ in 0..60 {
-        let c = rng.vec() * 3.0;
-        tris.push([c + rng.vec() * 0.5, c + rng.vec() * 0.5, c + rng.vec() * 0.5]);
+        let c = rng.in_cube(1.0) * 3.0;
+        tris.push([c + rng.in_cube(1.0) * 0.5, c + rng.in_cube(1.0) * 0.5, c + rng.in_cube(1.0) * 0.5]);
     }
     let bvh = Bvh::build(&mesh_of(&tris));
     let (mut spawned, mut engaged, mut spurious) = (0, 0, 0);
     for _ in 0..9000 {
-        let ray = Ray::new(rng.vec() * 4.0, rng.vec().normalize(), 0.0);
+        let ray = Ray::new(rng.in_cube(1.0) * 4.0, rng.in_cube(1.0).normalize(), 0.0);
         let Some(hit) = bvh.intersect(&ray, f32::INFINITY) else { continue };
         let tri = &bvh.triangle_at(hit.slot, 0.0);
         let (p, p_error) = crate::triangle::hit_point(tri, hit.barycentrics);
         let [a, b, c] = tri.map(Vec3::from_array);
         let n = (b - a).cross(c - a).normalize();
-        let tangent = n.cross(rng.vec()).normalize();
-        let side = if rng.next() < 0.5 { 1.0 } else { -1.0 };
+        let tangent = n.cross(rng.in_cube(1.0)).normalize();
+        let side = if rng.unit() < 0.5 { 1.0 } else { -1.0 };
         let grazing = [1e-2, 2e-3, 1e-3, 5e-4, 0.0].map(|cos| (tangent + side * cos * n).normalize());
-        let random = [(); 6].map(|_| rng.vec().normalize());
+        let random = [(); 6].map(|_| rng.in_cube(1.0).normalize());
         for w in grazing.into_iter().chain(random) {
             let next = Ray::new(crate::interaction::offset_ray_origin(p, p_error, n, w), w, 0.0);
             let leaving = bvh.leaving(hit.slot, w);
@@ -261,11 +263,11 @@ fn moved_at(tris: &[[Vec3; 3]], steps: &[Vec<Vec3>], open: f32, close: f32, time
 #[test]
 fn moving_triangles_match_brute_force_at_every_time() {
     for steps_n in [2usize, 3, 5] {
-        let mut rng = Lcg(21 + steps_n as u64);
+        let mut rng = Rng::new(21 + steps_n as u64);
         let tris: Vec<[Vec3; 3]> = (0..400)
             .map(|_| {
-                let c = rng.vec() * 5.0;
-                [c + rng.vec() * 0.4, c + rng.vec() * 0.4, c + rng.vec() * 0.4]
+                let c = rng.in_cube(1.0) * 5.0;
+                [c + rng.in_cube(1.0) * 0.4, c + rng.in_cube(1.0) * 0.4, c + rng.in_cube(1.0) * 0.4]
             })
             .collect();
         let mesh = mesh_of(&tris);
@@ -293,12 +295,12 @@ fn moving_triangles_match_brute_force_at_every_time() {
         let mut hits = 0;
         for i in 0..3000 {
             let time =
-                if i % 10 == 0 { [open, close, 6.0, 8.0, 7.25][i / 10 % 5] } else { open + rng.next() * 0.5 };
+                if i % 10 == 0 { [open, close, 6.0, 8.0, 7.25][i / 10 % 5] } else { open + rng.unit() * 0.5 };
             let at = moved_at(&tris, &steps, open, close, time);
             // Aimed at a random triangle where it is at that time, or anywhere.
-            let o = rng.vec() * 6.0;
-            let target = at[(rng.next() * at.len() as f32) as usize % at.len()][0];
-            let d = if i % 2 == 0 { (target - o).normalize() } else { rng.vec().normalize() };
+            let o = rng.in_cube(1.0) * 6.0;
+            let target = at[(rng.unit() * at.len() as f32) as usize % at.len()][0];
+            let d = if i % 2 == 0 { (target - o).normalize() } else { rng.in_cube(1.0).normalize() };
             let ray = Ray::new(o, d, time);
             let brute = brute_closest(&at, o, d);
             let hit = bvh.intersect(&ray, f32::INFINITY);
@@ -316,7 +318,7 @@ fn moving_triangles_match_brute_force_at_every_time() {
             let (p, p_error) = crate::triangle::hit_point(&corners, h.barycentrics);
             let [a, b, c] = corners.map(Vec3::from_array);
             let n = (b - a).cross(c - a).normalize();
-            let w = rng.vec().normalize();
+            let w = rng.in_cube(1.0).normalize();
             let next = Ray::new(crate::interaction::offset_ray_origin(p, p_error, n, w), w, time);
             let again = bvh.intersect(&next, f32::INFINITY);
             assert_ne!(again.map(|g| g.slot), Some(h.slot), "a spawned ray hit its own triangle");
@@ -334,8 +336,9 @@ fn moving_triangles_match_brute_force_at_every_time() {
 /// [`Bvh::build`] does.
 #[test]
 fn motion_that_moves_nothing_is_the_static_tree() {
-    let mut rng = Lcg(5);
-    let tris: Vec<[Vec3; 3]> = (0..200).map(|_| [rng.vec(), rng.vec(), rng.vec()]).collect();
+    let mut rng = Rng::new(5);
+    let tris: Vec<[Vec3; 3]> =
+        (0..200).map(|_| [rng.in_cube(1.0), rng.in_cube(1.0), rng.in_cube(1.0)]).collect();
     let mesh = mesh_of(&tris);
     let motion =
         SceneMotion { open: 0.0, close: 1.0, positions: vec![mesh.positions.clone(); 3], normals: vec![] };
@@ -350,11 +353,11 @@ fn motion_that_moves_nothing_is_the_static_tree() {
 /// and like testing every triangle; a mesh of other triangles is refused, nothing changed.
 #[test]
 fn refitted_tree_matches_brute_force() {
-    let mut rng = Lcg(31);
+    let mut rng = Rng::new(31);
     let tris: Vec<[Vec3; 3]> = (0..500)
         .map(|_| {
-            let c = rng.vec() * 5.0;
-            [c + rng.vec() * 0.4, c + rng.vec() * 0.4, c + rng.vec() * 0.4]
+            let c = rng.in_cube(1.0) * 5.0;
+            [c + rng.in_cube(1.0) * 0.4, c + rng.in_cube(1.0) * 0.4, c + rng.in_cube(1.0) * 0.4]
         })
         .collect();
     let mut bvh = Bvh::build(&mesh_of(&tris));
@@ -366,7 +369,7 @@ fn refitted_tree_matches_brute_force() {
     assert!(bvh.refit(&mesh_of(&moved)));
     let fresh = Bvh::build(&mesh_of(&moved));
     for _ in 0..3000 {
-        let (o, d) = (rng.vec() * 6.0, rng.vec().normalize());
+        let (o, d) = (rng.in_cube(1.0) * 6.0, rng.in_cube(1.0).normalize());
         let ray = Ray::new(o, d, 0.0);
         let brute = brute_closest(&moved, o, d);
         assert_eq!(bvh.intersect(&ray, f32::INFINITY).map(|h| (h.triangle as usize, h.t)), brute);

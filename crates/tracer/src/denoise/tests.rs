@@ -1,5 +1,5 @@
 use super::*;
-use crate::lcg::Lcg;
+use crate::test_support::Rng;
 use glam::Vec3;
 
 /// The shared denoiser, or `None` after a note when OIDN is not installed on a developer's
@@ -19,7 +19,7 @@ pub(crate) fn denoiser_or_skip() -> Option<&'static Denoiser> {
 
 /// A clean picture (a bright left half, a dim right half, a gradient down) and the same with
 /// heavy zero-mean noise, as a low sample count gives.
-fn scene(w: u32, h: u32, rng: &mut Lcg) -> (RgbImage, RgbImage, RgbImage, RgbImage) {
+fn scene(w: u32, h: u32, rng: &mut Rng) -> (RgbImage, RgbImage, RgbImage, RgbImage) {
     let mut clean = RgbImage::new(w, h);
     let mut albedo = RgbImage::new(w, h);
     let mut normal = RgbImage::new(w, h);
@@ -33,7 +33,7 @@ fn scene(w: u32, h: u32, rng: &mut Lcg) -> (RgbImage, RgbImage, RgbImage, RgbIma
     }
     let mut noisy = clean.clone();
     for p in &mut noisy.pixels {
-        let n = rng.vec();
+        let n = rng.in_cube(1.0);
         *p = (*p * (Vec3::ONE + n)).max(Vec3::ZERO);
     }
     (clean, noisy, albedo, normal)
@@ -57,7 +57,7 @@ fn mse(a: &RgbImage, b: &RgbImage) -> f64 {
 fn denoising_removes_most_of_the_noise() {
     let Some(d) = denoiser_or_skip() else { return };
     assert!(d.version().starts_with("2."), "{}", d.version());
-    let (clean, noisy, albedo, normal) = scene(64, 48, &mut Lcg(7));
+    let (clean, noisy, albedo, normal) = scene(64, 48, &mut Rng::new(7));
     let raw = mse(&noisy, &clean);
     for settings in all_settings() {
         for aux in [None, Some(Aux { albedo: &albedo, normal: &normal })] {
@@ -79,7 +79,7 @@ fn denoising_removes_most_of_the_noise() {
 #[test]
 fn non_finite_samples_give_a_finite_picture() {
     let Some(d) = denoiser_or_skip() else { return };
-    let (_, mut noisy, mut albedo, mut normal) = scene(32, 24, &mut Lcg(3));
+    let (_, mut noisy, mut albedo, mut normal) = scene(32, 24, &mut Rng::new(3));
     noisy.pixels[5] = Vec3::NAN;
     noisy.pixels[40] = Vec3::INFINITY;
     noisy.pixels[41] = Vec3::NEG_INFINITY;
@@ -151,7 +151,7 @@ impl crate::render::Progress for CancelAfter {
 #[test]
 fn a_cancelled_progress_stops_the_filter() {
     let Some(d) = denoiser_or_skip() else { return };
-    let (clean, noisy, albedo, normal) = scene(256, 192, &mut Lcg(5));
+    let (clean, noisy, albedo, normal) = scene(256, 192, &mut Rng::new(5));
     let aux = Some(Aux { albedo: &albedo, normal: &normal });
     for after in [0, 1] {
         let progress = CancelAfter(Default::default(), after);
@@ -177,7 +177,7 @@ fn a_cancelled_progress_stops_the_filter() {
 fn half_size_denoising_removes_most_of_the_noise() {
     let Some(d) = denoiser_or_skip() else { return };
     for (w, h) in [(64, 48), (65, 47)] {
-        let (clean, mut noisy, albedo, normal) = scene(w, h, &mut Lcg(9));
+        let (clean, mut noisy, albedo, normal) = scene(w, h, &mut Rng::new(9));
         let raw = mse(&noisy, &clean);
         noisy.pixels[10] = Vec3::NAN;
         for aux in [None, Some(Aux { albedo: &albedo, normal: &normal })] {

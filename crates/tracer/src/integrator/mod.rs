@@ -19,7 +19,10 @@
 //! The path of one camera ray, in the order the code runs it:
 //! 1. [`PathTracer::radiance`] starts a `PathState` (`path_state.rs`) at the camera ray and
 //!    finds its first vertex (`PathState::find`: the closest hit, the surface and material there
-//!    (`surface.rs`) and the emission seen, or the environment if the ray escapes).
+//!    and the emission seen, or the environment if the ray escapes). A path asks the scene
+//!    through a [`SceneQuery`](scene_query::SceneQuery) (`scene_query.rs`: the hit queries, the
+//!    surface and material at a hit, lights, the environment, the settings it reads), the one
+//!    view of the scene it is handed.
 //! 2. Each of the `split` branches continues from that vertex as a path of its own with its own
 //!    numbers (one branch without splitting); only branch 0 samples the first vertex's light.
 //! 3. `PathState::advance` takes a path one vertex further. `scatter` picks the vertex's lobe,
@@ -30,25 +33,23 @@
 //! 4. A path ends when its ray escapes, at the maximum depth, by roulette, or where its lobe
 //!    gives no direction.
 
+mod attributes;
 mod path_state;
-mod surface;
+mod scene_query;
 
-use crate::bsdf::BsdfParams;
+#[cfg(any(test, feature = "test-support"))]
 use crate::bvh::{Bvh, Hit};
 use crate::error::{Result, TracerError};
+#[cfg(any(test, feature = "test-support"))]
 use crate::interaction::SurfaceInteraction;
 #[cfg(any(test, feature = "test-support"))]
 use crate::light::LightChoice;
-use crate::light::LightSampler;
-use crate::material::Material;
 use crate::ray::Ray;
 use crate::sampler::{MAX_SAMPLES_PER_PIXEL, Sampler};
-use crate::sampling::Frame;
 use crate::scene::Scene;
-use crate::texture::Texture;
 use glam::{Vec2, Vec3};
 use path_state::PathState;
-use surface::Attributes;
+use scene_query::SceneQuery;
 
 /// Path-tracing parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -119,36 +120,15 @@ pub struct PathSample {
     pub rays: u32,
 }
 
-/// A scene prepared for path tracing: BVH, lights, materials and shading attributes.
+/// A scene prepared for path tracing: the paths' view of it ([`SceneQuery`]) and the
+/// settings the camera ray's driver reads.
 pub struct PathTracer {
-    bvh: Bvh,
-    lights: LightSampler,
-    materials: Vec<Material>,
-    material_ids: Vec<u32>,
-    textures: Vec<Texture>,
-    attributes: Attributes,
-    /// Per triangle (mesh order): the frame around the unit geometric normal (its z), computed
-    /// once here rather than at every hit, where the normal's cross product, square root and
-    /// division and the frame's own division sat between the hit and everything shading does
-    /// with it. Flat-shaded hits use it as their shading frame (36 bytes per triangle;
-    /// docs/performance.md, ledger: "precomputed shading frame").
-    geometric_frames: Vec<Frame>,
-    /// Per triangle: does its material have an alpha test? `None` when no material does, in
-    /// which case traversal runs without any test callback.
-    alpha_tested: Option<Vec<bool>>,
+    scene: SceneQuery,
     /// Every material is an untextured, opaque Lambertian (no metallic, specular or
     /// transmission weight), no triangle has vertex normals or colours and every light is an emissive
     /// triangle, so renders may take the Lambert-only path (see [`PathTracer::lambert_only`]).
     lambert_only: bool,
-    environment: Vec3,
-    /// Every emitter a BSDF-sampled ray could reach is also reached by light sampling (no
-    /// constant environment outside the light sampler), so the last vertex may estimate its
-    /// direct light by light sampling alone (see `PathState::scatter`).
-    lights_cover_emission: bool,
     config: IntegratorConfig,
-    /// 1 / `config.split`: the weight of each branch continued from a first hit (exactly 1
-    /// without splitting, so a multiply by it changes no bit).
-    branch_weight: f32,
     /// The BVH was refitted from another pose's ([`PathTracer::reposed`]).
     refitted: bool,
 }
@@ -166,7 +146,7 @@ impl PathTracer {
     /// (closest hits break ties by triangle index, not by the tree's shape).
     pub fn reposed(self, scene: &Scene) -> Result<Self> {
         let config = self.config;
-        Self::prepare(scene, config, Some(self.bvh))
+        Self::prepare(scene, config, Some(self.scene.into_bvh()))
     }
 
     /// Whether the BVH was refitted rather than built (by [`PathTracer::reposed`]).
@@ -185,67 +165,8 @@ impl PathTracer {
                 config.split
             )));
         }
-        let mesh = &scene.mesh;
-        let mut attributes = Attributes::gather(mesh);
-        let alpha_tested =
-            scene.materials.iter().any(Material::has_alpha).then(|| {
-                mesh.material_ids.iter().map(|&m| scene.materials[m as usize].has_alpha()).collect()
-            });
-        let lights = LightSampler::new(scene);
-        let lambert_only = attributes.normals.is_none()
-            && attributes.colors.is_none()
-            && lights.triangles_only()
-            && scene.materials.iter().all(|m| {
-                m.textures.is_empty()
-                    && !m.has_alpha()
-                    && m.transmission == 0.0
-                    && m.coat == 0.0
-                    && !m.has_sheen()
-                    && BsdfParams::of(m).is_lambert()
-            });
-        let lights_cover_emission = lights.environment().is_some() || scene.environment.color == Vec3::ZERO;
-        let geometric_frames = (0..mesh.triangle_count())
-            .map(|t| {
-                let [v0, v1, v2] = mesh.corners(t);
-                Frame::from_z((v1 - v0).cross(v2 - v0).normalize_or(Vec3::Z))
-            })
-            .collect();
-        // Triangles that move within the shutter go in the BVH's motion tree, emitters too: light
-        // sampling places them where the ray's time has them (`light::motion`).
-        let moving = scene.motion.as_deref().and_then(|motion| {
-            let moving = motion.moving_triangles(mesh);
-            moving.contains(&true).then_some((motion, moving))
-        });
-        let mut refitted = false;
-        let instances = scene.instances.as_deref();
-        let bvh = match (&moving, previous) {
-            (Some((motion, moving)), _) => {
-                attributes.gather_motion(mesh, &motion.normals);
-                Bvh::build_scene(mesh, Some((motion, moving)), instances)
-            }
-            (None, _) if instances.is_some() => Bvh::build_scene(mesh, None, instances),
-            (None, Some(mut bvh)) => {
-                refitted = bvh.refit(mesh);
-                if refitted { bvh } else { Bvh::build(mesh) }
-            }
-            (None, None) => Bvh::build(mesh),
-        };
-        Ok(Self {
-            bvh,
-            geometric_frames,
-            lights,
-            lights_cover_emission,
-            materials: scene.materials.clone(),
-            material_ids: mesh.material_ids.clone(),
-            textures: scene.textures.clone(),
-            attributes,
-            alpha_tested,
-            lambert_only,
-            environment: scene.environment.color,
-            config,
-            branch_weight: 1.0 / config.split as f32,
-            refitted,
-        })
+        let (scene, refitted) = SceneQuery::new(scene, config, previous);
+        Ok(Self { lambert_only: scene.lambert_only(), scene, config, refitted })
     }
 
     /// The configuration in use.
@@ -253,14 +174,16 @@ impl PathTracer {
         self.config
     }
 
-    /// The acceleration structure (for tests and tools).
+    /// Test hook: the acceleration structure (tests trace rays against it directly).
+    #[doc(hidden)]
+    #[cfg(any(test, feature = "test-support"))]
     pub fn bvh(&self) -> &Bvh {
-        &self.bvh
+        self.scene.bvh()
     }
 
     /// True when some material is alpha-tested (renders then use the alpha-aware traversal).
     pub fn has_alpha(&self) -> bool {
-        self.alpha_tested.is_some()
+        self.scene.has_alpha()
     }
 
     /// True when every surface is an untextured, opaque, flat-shaded Lambertian lit by
@@ -286,15 +209,15 @@ impl PathTracer {
     /// scene would take (`benches/lights.rs` measures the two against each other).
     #[doc(hidden)]
     #[cfg(any(test, feature = "test-support"))]
-    pub fn with_light_choice(mut self, choice: LightChoice, scene: &Scene) -> Self {
-        self.lights = self.lights.choosing(choice, scene);
-        self
+    pub fn with_light_choice(self, choice: LightChoice, scene: &Scene) -> Self {
+        Self { scene: self.scene.with_light_choice(choice, scene), ..self }
     }
 
-    /// The surface geometry at `hit`.
-    #[inline]
+    /// Test hook: the surface geometry at `hit` (tests spawn rays from it).
+    #[doc(hidden)]
+    #[cfg(any(test, feature = "test-support"))]
     pub fn interaction(&self, hit: &Hit) -> SurfaceInteraction {
-        self.surface::<false>(hit)
+        self.scene.surface::<false>(hit)
     }
 
     /// Estimates the radiance arriving along `ray`; with `AOV`, records the first hit; with
@@ -322,10 +245,11 @@ impl PathTracer {
         u_light: Vec2,
         first: &mut FirstHit,
     ) -> PathSample {
+        debug_assert!(!LAMBERT || self.lambert_only);
         let mut out = PathSample { radiance: Vec3::ZERO, rays: 0 };
         let split = self.config.split;
         let mut camera = PathState::camera(ray, sampler.branch(split, 0), u_light);
-        let found = camera.find::<ALPHA, LAMBERT>(self, &mut out);
+        let found = camera.find::<ALPHA, LAMBERT>(&self.scene, &mut out);
         if AOV {
             *first = found.as_ref().map_or(MISSED, |v| v.first_hit());
         }
@@ -341,7 +265,9 @@ impl PathTracer {
             // The first vertex's light is sampled once, by branch 0; every later vertex's by
             // the path that reaches it.
             let mut sample_light = branch == 0;
-            while let Some(next) = path.advance::<ALPHA, LAMBERT>(self, &vertex, sample_light, &mut out) {
+            while let Some(next) =
+                path.advance::<ALPHA, LAMBERT>(&self.scene, &vertex, sample_light, &mut out)
+            {
                 vertex = next;
                 sample_light = true;
             }

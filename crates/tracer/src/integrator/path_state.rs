@@ -2,7 +2,8 @@
 //! next ([`PathState`]), the vertex it stands on ([`Vertex`]), and the step that takes it one
 //! vertex further ([`PathState::advance`]: scatter, then find the next vertex).
 
-use super::{FirstHit, PathSample, PathTracer};
+use super::scene_query::SceneQuery;
+use super::{FirstHit, PathSample};
 use crate::bsdf::dielectric::Dielectric;
 use crate::bsdf::rough_dielectric::RoughDielectric;
 use crate::bsdf::{Bsdf, BsdfParams};
@@ -206,16 +207,16 @@ impl PathState {
     #[inline(always)]
     pub(super) fn advance<'t, const ALPHA: bool, const LAMBERT: bool>(
         &mut self,
-        tracer: &'t PathTracer,
+        scene: &'t SceneQuery,
         vertex: &Vertex,
         sample_light: bool,
         out: &mut PathSample,
     ) -> Option<Vertex<'t>> {
-        if !self.scatter::<ALPHA, LAMBERT>(tracer, vertex, sample_light, out) {
+        if !self.scatter::<ALPHA, LAMBERT>(scene, vertex, sample_light, out) {
             return None;
         }
-        let next = self.find::<ALPHA, LAMBERT>(tracer, out)?;
-        (self.depth < tracer.config.max_depth).then_some(next)
+        let next = self.find::<ALPHA, LAMBERT>(scene, out)?;
+        (self.depth < scene.max_depth()).then_some(next)
     }
 
     /// Traces `ray` to the next vertex and adds the light it finds: the environment when the
@@ -225,12 +226,12 @@ impl PathState {
     #[inline(always)]
     pub(super) fn find<'t, const ALPHA: bool, const LAMBERT: bool>(
         &mut self,
-        tracer: &'t PathTracer,
+        scene: &'t SceneQuery,
         out: &mut PathSample,
     ) -> Option<Vertex<'t>> {
         let ray = &self.ray;
         out.rays += 1;
-        let found = tracer.closest_hit::<ALPHA>(ray, self.leaving, self.depth == 0);
+        let found = scene.closest_hit::<ALPHA>(ray, self.leaving, self.depth == 0);
         if let (false, Some(sigma)) = (LAMBERT, self.medium) {
             // Beer–Lambert along the segment; a ray that escapes from inside a medium (a mesh
             // that is not closed) keeps only the channels the medium does not absorb.
@@ -239,28 +240,26 @@ impl PathState {
         }
         let ray = &self.ray;
         let Some(hit) = found else {
-            let env = tracer.lights.environment();
-            let le = env.map_or(tracer.environment, |e| e.radiance(ray.direction));
+            let le = scene.environment(ray.direction);
             if le != Vec3::ZERO {
-                let w = if self.depth == 0 || self.specular || env.is_none() {
+                let w = if self.depth == 0 || self.specular || !scene.samples_environment() {
                     1.0
                 } else {
-                    power_heuristic(self.prev_pdf, tracer.lights.pdf_environment(ray.direction))
+                    power_heuristic(self.prev_pdf, scene.pdf_environment(ray.direction))
                 };
                 out.radiance += self.beta * le * w;
             }
             return None;
         };
-        debug_assert!(!LAMBERT || tracer.lambert_only);
-        let si = tracer.surface::<LAMBERT>(&hit);
-        let material = &tracer.materials[si.material as usize];
-        let sp = tracer.shade::<LAMBERT>(material, &si, hit.barycentrics);
+        let si = scene.surface::<LAMBERT>(&hit);
+        let material = scene.material(si.material);
+        let sp = scene.shade::<LAMBERT>(material, &si, hit.barycentrics);
         let wo = -ray.direction;
         if sp.emission != Vec3::ZERO && (material.emission_two_sided || si.n_geom.dot(wo) > 0.0) {
             if self.depth == 0 || self.specular {
                 out.radiance += self.beta * sp.emission;
             } else {
-                let light_pdf = tracer.lights.pdf_triangle(
+                let light_pdf = scene.pdf_triangle(
                     self.prev_p,
                     self.prev_n,
                     hit.triangle,
@@ -280,7 +279,7 @@ impl PathState {
     #[inline(always)]
     fn scatter<const ALPHA: bool, const LAMBERT: bool>(
         &mut self,
-        tracer: &PathTracer,
+        scene: &SceneQuery,
         v: &Vertex,
         sample_light: bool,
         out: &mut PathSample,
@@ -328,9 +327,9 @@ impl PathState {
             // the camera keeps MIS). It saves one closest-hit query in every path that reaches
             // the last vertex (docs/performance.md, ledger: "last vertex by light sampling
             // alone").
-            let light_only = depth + 1 == tracer.config.max_depth
+            let light_only = depth + 1 == scene.max_depth()
                 && depth > 0
-                && tracer.lights_cover_emission
+                && scene.lights_cover_emission()
                 && bsdf.is_diffuse();
 
             // The BSDF sample that continues the path, its ray and the next vertex's light
@@ -347,7 +346,7 @@ impl PathState {
                 Some((bs.map(|bs| (bs, v.si.spawn_ray(bs.wi, time))), Vec2::new(l0, l1)))
             };
             if sample_light {
-                self.sample_light::<ALPHA, LAMBERT>(tracer, v, &bsdf, light_only, out);
+                self.sample_light::<ALPHA, LAMBERT>(scene, v, &bsdf, light_only, out);
             }
             // Go on along the BSDF sample drawn above. (`next` nests its two Options on purpose:
             // docs/performance.md, ledger: "continuation sample's Options flattened".)
@@ -360,13 +359,13 @@ impl PathState {
             self.specular = false;
             self.ray = next_ray;
         }
-        self.leaving = tracer.bvh.leaving(v.hit.slot, self.ray.direction);
+        self.leaving = scene.leaving(v.hit.slot, self.ray.direction);
         if depth == 0 {
-            self.beta *= tracer.branch_weight;
+            self.beta *= scene.branch_weight();
             self.first_beta = self.beta.max_element().max(f32::MIN_POSITIVE);
         }
         self.depth += 1;
-        if depth + 1 >= tracer.config.rr_depth {
+        if depth + 1 >= scene.rr_depth() {
             // Survival √(β / β₁), β₁ the throughput the first vertex passed on: a pixel's value
             // scales with β₁, so paths are judged by what they still carry of their own pixel's
             // light, not by what a bright pixel carries (a dark first surface does not doom its
@@ -388,26 +387,24 @@ impl PathState {
     #[inline(always)]
     fn sample_light<const ALPHA: bool, const LAMBERT: bool>(
         &self,
-        tracer: &PathTracer,
+        scene: &SceneQuery,
         v: &Vertex,
         bsdf: &Bsdf,
         light_only: bool,
         out: &mut PathSample,
     ) {
         let si = &v.si;
-        let ls = if LAMBERT {
-            tracer.lights.sample_triangles(si.p, bsdf.geometric_normal(), self.u_light, self.ray.time)
-        } else {
-            tracer.lights.sample(si.p, bsdf.geometric_normal(), self.u_light, self.ray.time)
+        let Some(ls) =
+            scene.light_sample::<LAMBERT>(si.p, bsdf.geometric_normal(), self.u_light, self.ray.time)
+        else {
+            return;
         };
-        let Some(ls) = ls else { return };
         let (f, bsdf_pdf) = bsdf.eval(ls.wi);
         let mut li = ls.li;
-        if let (false, Some((tri, b))) = (LAMBERT, ls.emitter) {
-            let m = &tracer.materials[tracer.material_ids[tri as usize] as usize];
-            if let Some(r) = &m.textures.emissive {
-                li *= r.eval(&tracer.textures, tracer.uvs(tri, b)).truncate();
-            }
+        if let (false, Some((tri, b))) = (LAMBERT, ls.emitter)
+            && let Some(emissive) = scene.emissive_texture(tri, b)
+        {
+            li *= emissive;
         }
         if f == Vec3::ZERO || li == Vec3::ZERO {
             return;
@@ -418,7 +415,7 @@ impl PathState {
         };
         let Some((shadow, t_max)) = shadow else { return };
         out.rays += 1;
-        if tracer.occluded::<ALPHA>(&shadow, t_max, tracer.bvh.leaving(v.hit.slot, shadow.direction)) {
+        if scene.occluded::<ALPHA>(&shadow, t_max, scene.leaving(v.hit.slot, shadow.direction)) {
             return;
         }
         let cos = ls.wi.dot(bsdf.shading_normal()).abs();

@@ -240,9 +240,9 @@ fn union_opt(a: Option<LightBounds>, b: Option<LightBounds>) -> Option<LightBoun
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::lcg::Lcg;
     use crate::light::{EmissiveTriangle, PointLight, SpotLight};
     use crate::scene::SpotFalloff;
+    use crate::test_support::Rng;
 
     /// A light of the test scenes, and whether it can light a receiver.
     enum TestLight {
@@ -282,27 +282,27 @@ mod tests {
 
     /// Triangles of random sizes and orientations (every fifth two-sided), point lights and
     /// spot lights of both falloffs, in a box of side 10.
-    fn scene(rng: &mut Lcg) -> Vec<TestLight> {
+    fn scene(rng: &mut Rng) -> Vec<TestLight> {
         let mut lights = Vec::new();
         for k in 0..60 {
-            let c = rng.vec() * 5.0;
-            let size = 0.05 + rng.next();
-            let p = [c + rng.vec() * size, c + rng.vec() * size, c + rng.vec() * size];
-            let radiance = Vec3::new(rng.next(), rng.next(), rng.next()) * 10.0;
+            let c = rng.in_cube(1.0) * 5.0;
+            let size = 0.05 + rng.unit();
+            let p = [c + rng.in_cube(1.0) * size, c + rng.in_cube(1.0) * size, c + rng.in_cube(1.0) * size];
+            let radiance = Vec3::new(rng.unit(), rng.unit(), rng.unit()) * 10.0;
             if let Some(t) = EmissiveTriangle::new(k, p, radiance, k % 5 == 0) {
                 lights.push(TestLight::Triangle(t));
             }
         }
         for k in 0..6 {
-            let position = rng.vec() * 5.0;
-            let intensity = Vec3::splat(1.0 + 20.0 * rng.next());
+            let position = rng.in_cube(1.0) * 5.0;
+            let intensity = Vec3::splat(1.0 + 20.0 * rng.unit());
             if k % 2 == 0 {
                 lights.push(TestLight::Point(PointLight { position, intensity }));
             } else {
-                let outer = 0.2 + 1.2 * rng.next();
-                let inner = outer * rng.next();
+                let outer = 0.2 + 1.2 * rng.unit();
+                let inner = outer * rng.unit();
                 let falloff = if k % 3 == 0 { SpotFalloff::Gltf } else { SpotFalloff::Blender };
-                let dir = rng.unit();
+                let dir = rng.direction();
                 lights.push(TestLight::Spot(SpotLight::new(position, dir, intensity, inner, outer, falloff)));
             }
         }
@@ -310,7 +310,7 @@ mod tests {
     }
 
     /// A random scene and its tree.
-    fn scene_and_tree(rng: &mut Lcg) -> (Vec<TestLight>, LightTree) {
+    fn scene_and_tree(rng: &mut Rng) -> (Vec<TestLight>, LightTree) {
         let lights = scene(rng);
         let bounds: Vec<LightBounds> = lights.iter().map(TestLight::bounds).collect();
         let tree = LightTree::build(&bounds).expect("lights");
@@ -325,7 +325,7 @@ mod tests {
     /// to such ends is printed.)
     #[test]
     fn sampling_matches_brute_force_and_is_conservative() {
-        let mut rng = Lcg(11);
+        let mut rng = Rng::new(11);
         let (lights, tree) = scene_and_tree(&mut rng);
         assert_eq!(tree.len(), lights.len());
         const N: usize = 200_000;
@@ -335,8 +335,8 @@ mod tests {
             (count as f64 - mean).abs() <= 5.0 * (mean * (1.0 - p)).max(0.0).sqrt() + 1.0
         };
         for receiver in 0..40 {
-            let p = rng.vec() * 6.0;
-            let n = rng.unit();
+            let p = rng.in_cube(1.0) * 6.0;
+            let n = rng.direction();
             let pmfs: Vec<f32> = (0..lights.len() as u32).map(|i| tree.pmf(p, n, i)).collect();
             let total: f64 = pmfs.iter().map(|&x| x as f64).sum();
             for (i, light) in lights.iter().enumerate() {
@@ -353,7 +353,7 @@ mod tests {
             let mut counts = vec![0usize; lights.len()];
             let mut none = 0;
             for _ in 0..N {
-                let Some((i, pmf, rest)) = tree.sample(p, n, rng.next()) else {
+                let Some((i, pmf, rest)) = tree.sample(p, n, rng.unit()) else {
                     none += 1;
                     continue;
                 };
@@ -383,7 +383,7 @@ mod tests {
     /// run of samples whose rescaled numbers spread evenly over [0, 1).
     #[test]
     fn rescaled_number_stays_uniform() {
-        let (lights, tree) = scene_and_tree(&mut Lcg(3));
+        let (lights, tree) = scene_and_tree(&mut Rng::new(3));
         let (p, n) = (Vec3::new(0.5, -0.3, 0.2), Vec3::Y);
         const N: usize = 1 << 18;
         let mut per_light: Vec<Vec<f32>> = vec![Vec::new(); lights.len()];
