@@ -1,7 +1,7 @@
 //! Denoising speed and what it buys (issue 44; docs/performance.md §1.7, "Denoising").
 //!
 //! `cargo bench -p mcctrace-suite --bench denoise` prints three tables, each a part of
-//! `DENOISE_BENCH_PARTS` (comma-separated; all four by default):
+//! `DENOISE_BENCH_PARTS` (comma-separated; all three by default):
 //!
 //! - `timing`: the café's `wide` rendered at 1 spp with albedo and normal, denoised with Intel Open
 //!   Image Denoise (the library the README's one command installs, or `MCCTRACE_OIDN`) at 480×270
@@ -16,11 +16,6 @@
 //!   64 and 256 spp (`spp,seconds_raw,rel_mse_raw,seconds_denoised,rel_mse_denoised`), for the
 //!   comparison with Cycles + OIDN (benches/peers/cycles/`render.py --denoise --reference
 //!   target/denoise-bench/cafe-wide-240x135-ref.exr`, the reference this writes).
-//!
-//! - `preview`: the studio's refining preview, the café's `wide` at 480×270 and 1, 4 and 16 spp,
-//!   denoised by the fast filter at full size and at half size (`Denoiser::denoise_at_half_size`):
-//!   relMSE against the 1024-spp reference at that size (raw, full, half) and the median wall and
-//!   CPU milliseconds of each filter (`DENOISE_BENCH_RUNS`).
 //!
 //! - `cycles` (not in the default list): scores the renders of `benches/peers/cycles/denoise.sh`
 //!   (`DENOISE_BENCH_CYCLES`, default `target/peers/cycles/denoise`): each renderer's denoised
@@ -179,53 +174,6 @@ fn quality(d: &Denoiser, dir: &Path, shots: &[(&Shot, UVec2)]) {
     }
 }
 
-/// Median wall and CPU milliseconds of `runs` calls of `f` after one warm-up call.
-fn median_ms(runs: usize, mut f: impl FnMut()) -> (f64, f64) {
-    f();
-    let mut walls = Vec::new();
-    let mut cpus = Vec::new();
-    for _ in 0..runs.max(1) {
-        let (start, cpu) = (Instant::now(), cpu_seconds());
-        f();
-        walls.push(start.elapsed().as_secs_f64() * 1e3);
-        cpus.push((cpu_seconds() - cpu) * 1e3);
-    }
-    walls.sort_by(f64::total_cmp);
-    cpus.sort_by(f64::total_cmp);
-    (walls[walls.len() / 2], cpus[cpus.len() / 2])
-}
-
-fn preview(d: &Denoiser, dir: &Path, cafe: &Shot) {
-    let runs: usize = std::env::var("DENOISE_BENCH_RUNS").ok().and_then(|v| v.parse().ok()).unwrap_or(7);
-    let size = UVec2::new(480, 270);
-    let reference = cafe.reference(dir, size);
-    println!(
-        "
-the studio's refining preview: café wide 480×270, fast filter; load {}",
-        load()
-    );
-    println!("spp,rel_mse_raw,rel_mse_full,rel_mse_half,full_wall_ms,full_cpu_ms,half_wall_ms,half_cpu_ms");
-    let progress = tracer::render::NoProgress;
-    for spp in [1, 4, 16] {
-        let (images, _) = cafe.render(size, spp, 7);
-        let full = || d.denoise(&images.image, Some(aux(&images)), Settings::PREVIEW).expect("denoise");
-        let half = || {
-            d.denoise_at_half_size(&images.image, Some(aux(&images)), Settings::PREVIEW, &progress)
-                .expect("denoise at half size")
-        };
-        let (full_image, half_image) = (full(), half());
-        let (fw, fc) = median_ms(runs, || drop(full()));
-        let (hw, hc) = median_ms(runs, || drop(half()));
-        println!(
-            "{spp},{:.5},{:.5},{:.5},{fw:.1},{fc:.1},{hw:.1},{hc:.1}",
-            rel_mse(&images.image, &reference),
-            rel_mse(&full_image, &reference),
-            rel_mse(&half_image, &reference)
-        );
-    }
-    println!("load at the end: {}", load());
-}
-
 fn convergence(d: &Denoiser, dir: &Path, cafe: &Shot) {
     let size = UVec2::new(240, 135);
     let reference = cafe.reference(dir, size);
@@ -298,8 +246,7 @@ fn main() {
     if std::env::args().any(|a| a == "--list") {
         return;
     }
-    let parts =
-        std::env::var("DENOISE_BENCH_PARTS").unwrap_or_else(|_| "timing,quality,convergence,preview".into());
+    let parts = std::env::var("DENOISE_BENCH_PARTS").unwrap_or_else(|_| "timing,quality,convergence".into());
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     if parts == "cycles" {
         let dir = std::env::var_os("DENOISE_BENCH_CYCLES")
@@ -330,9 +277,8 @@ fn main() {
                 quality(d, &dir, &[(&cafe, UVec2::new(240, 135)), (&cornell, square), (&lens, square)]);
             }
             "convergence" => convergence(d, &dir, &cafe),
-            "preview" => preview(d, &dir, &cafe),
             other => panic!(
-                "DENOISE_BENCH_PARTS: unknown part {other:?} (timing, quality, convergence, preview; cycles alone)"
+                "DENOISE_BENCH_PARTS: unknown part {other:?} (timing, quality, convergence; cycles alone)"
             ),
         }
     }

@@ -45,10 +45,6 @@ struct CameraCache {
 /// 16 times a move's thumbnail, once per camera.
 const FIRST_THUMB_DIVISOR: u32 = 2;
 const FIRST_THUMB_SPP: u32 = 4;
-/// Pixels above which a refining preview is denoised at half size: OIDN's fast filter takes
-/// about 0.8 µs a pixel on two cores, so 48,000 pixels are its 40 ms budget (480×270 takes
-/// 105 ms at full size, 27 ms at half; docs/performance.md §1.7).
-const HALF_SIZE_ABOVE: usize = 48_000;
 
 /// The preview worker's caches.
 pub struct Worker {
@@ -105,25 +101,16 @@ impl Worker {
         snap.denoise && Denoiser::shared().is_ok()
     }
 
-    /// The picture shown for a render: denoised in preview mode when `denoise`, else raw; a
-    /// `refining` stage larger than [`HALF_SIZE_ABOVE`] is denoised at half size (the lighting
-    /// at half resolution, the textures at full), so that it keeps up with the user. Newer
+    /// The picture shown for a render: denoised in preview mode when `denoise`, else raw. Newer
     /// state stops the filter within one of its tiles (`stale`), so a denoise in progress never
     /// holds up the next stroke.
-    fn shown(images: FilmImages, denoise: bool, refining: bool, stale: &Stale<'_>) -> Result<RgbImage> {
+    fn shown(images: FilmImages, denoise: bool, stale: &Stale<'_>) -> Result<RgbImage> {
         if !denoise {
             return Ok(images.image);
         }
-        let aux = Some(Aux { albedo: &images.albedo, normal: &images.normal });
-        let half = refining && images.image.pixels.len() > HALF_SIZE_ABOVE;
+        let aux = Aux { albedo: &images.albedo, normal: &images.normal };
         let denoised = Denoiser::shared()
-            .and_then(|d| {
-                if half {
-                    d.denoise_at_half_size(&images.image, aux, Settings::PREVIEW, stale)
-                } else {
-                    d.denoise_cancellable(&images.image, aux, Settings::PREVIEW, stale)
-                }
-            })
+            .and_then(|d| d.denoise_cancellable(&images.image, Some(aux), Settings::PREVIEW, stale))
             .map_err(|e| match e {
                 DenoiseError::Cancelled => tracer::TracerError::Cancelled,
                 e => e.into(),
@@ -179,7 +166,7 @@ impl Worker {
                 let images =
                     self.render_view(&tracer, snap, cam, size, Self::quality(spp, denoise), &stale)?;
                 let raw = images.image.clone();
-                let shown = Self::shown(images, denoise, false, &stale)?;
+                let shown = Self::shown(images, denoise, &stale)?;
                 self.send(snap, ImageKind::Thumb, Some(cam.index), spp, &srgb(&shown))?;
                 let cache = self.cameras.get_mut(&cam.index).expect("updated");
                 (cache.thumb, cache.first) = (Some(raw), false);
@@ -194,7 +181,6 @@ impl Worker {
             let image = Self::shown(
                 self.rerender(&tracer, snap, rays, coarse, Self::quality(1, denoise), &stale)?,
                 denoise,
-                false,
                 &stale,
             )?;
             let views = &self.cameras;
@@ -221,8 +207,7 @@ impl Worker {
             loop {
                 let images = self.rerender(&tracer, snap, rays, res, Self::quality(spp, denoise), &stale)?;
                 let raw = denoise.then(|| images.image.clone());
-                let refining = spp < self.shared.settings.preview_spp;
-                let mut image = Self::shown(images, denoise, refining, &stale)?;
+                let mut image = Self::shown(images, denoise, &stale)?;
                 if spp < view_spp {
                     // Painted pixels keep their camera's view samples until the rerender has
                     // as many there (it traces those very rays); from then on it is exactly

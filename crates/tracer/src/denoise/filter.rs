@@ -28,8 +28,20 @@ pub(super) fn run(
     settings: Settings,
     progress: &dyn Progress,
 ) -> Result<RgbImage, DenoiseError> {
-    check_sizes(color, aux)?;
     let (w, h) = (color.width, color.height);
+    if color.pixels.len() != w as usize * h as usize {
+        return Err(DenoiseError::Input(format!("a {w}×{h} image holds {} pixels", color.pixels.len())));
+    }
+    if let Some(a) = aux {
+        for (name, image) in [("albedo", a.albedo), ("normal", a.normal)] {
+            if (image.width, image.height, image.pixels.len()) != (w, h, color.pixels.len()) {
+                return Err(DenoiseError::Input(format!(
+                    "the {name} image is {}×{}, the picture {w}×{h}",
+                    image.width, image.height
+                )));
+            }
+        }
+    }
     if color.pixels.is_empty() {
         return Ok(color.clone());
     }
@@ -73,25 +85,6 @@ pub(super) fn run(
         *out = out.max(Vec3::ZERO);
     }
     Ok(RgbImage { width: w, height: h, pixels: output })
-}
-
-/// `Err` unless `color` holds its `width × height` pixels and the auxiliaries match it.
-pub(super) fn check_sizes(color: &RgbImage, aux: Option<Aux<'_>>) -> Result<(), DenoiseError> {
-    let (w, h) = (color.width, color.height);
-    if color.pixels.len() != w as usize * h as usize {
-        return Err(DenoiseError::Input(format!("a {w}×{h} image holds {} pixels", color.pixels.len())));
-    }
-    if let Some(a) = aux {
-        for (name, image) in [("albedo", a.albedo), ("normal", a.normal)] {
-            if (image.width, image.height, image.pixels.len()) != (w, h, color.pixels.len()) {
-                return Err(DenoiseError::Input(format!(
-                    "the {name} image is {}×{}, the picture {w}×{h}",
-                    image.width, image.height
-                )));
-            }
-        }
-    }
-    Ok(())
 }
 
 /// `pixels` with every channel clamped to `lo..=hi` and NaN made 0 (infinities clamp).

@@ -13,7 +13,6 @@
 //! first (NaN or infinite samples never reach the filter), and the output is finite.
 
 mod filter;
-mod half_size;
 mod loader;
 
 pub use filter::Aux;
@@ -266,19 +265,6 @@ impl Denoiser {
         progress: &dyn crate::render::Progress,
     ) -> Result<RgbImage, DenoiseError> {
         filter::run(self, color, aux, settings, progress)
-    }
-
-    /// [`Denoiser::denoise_cancellable`] at half the picture's size, brought back to full size
-    /// by the albedo (the lighting at half resolution, the textures at full): about a quarter of
-    /// the filter's time, for a refining preview that must keep up with the user.
-    pub fn denoise_at_half_size(
-        &self,
-        color: &RgbImage,
-        aux: Option<Aux<'_>>,
-        settings: Settings,
-        progress: &dyn crate::render::Progress,
-    ) -> Result<RgbImage, DenoiseError> {
-        half_size::run(self, color, aux, settings, progress)
     }
 
     /// `Err` with OIDN's message if the device has an error pending.

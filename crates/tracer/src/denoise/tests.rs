@@ -169,28 +169,3 @@ fn a_cancelled_progress_stops_the_filter() {
         "a run the monitor lets finish is the plain run"
     );
 }
-
-/// At half size the preview's filter still takes out most of the noise, with and without
-/// auxiliaries, on an even and an odd size; the output is full size, finite and non-negative,
-/// a NaN sample included; mismatched auxiliaries are refused.
-#[test]
-fn half_size_denoising_removes_most_of_the_noise() {
-    let Some(d) = denoiser_or_skip() else { return };
-    for (w, h) in [(64, 48), (65, 47)] {
-        let (clean, mut noisy, albedo, normal) = scene(w, h, &mut Rng::new(9));
-        let raw = mse(&noisy, &clean);
-        noisy.pixels[10] = Vec3::NAN;
-        for aux in [None, Some(Aux { albedo: &albedo, normal: &normal })] {
-            let out =
-                d.denoise_at_half_size(&noisy, aux, Settings::PREVIEW, &crate::render::NoProgress).unwrap();
-            assert_eq!((out.width, out.height), (w, h));
-            assert!(out.pixels.iter().all(|p| p.is_finite() && p.min_element() >= 0.0));
-            let err = mse(&out, &clean);
-            assert!(err < raw / 10.0, "{w}×{h} aux={}: {err} vs raw {raw}", aux.is_some());
-        }
-    }
-    let (color, small) = (RgbImage::new(8, 8), RgbImage::new(4, 8));
-    let aux = Some(Aux { albedo: &small, normal: &color });
-    let err = d.denoise_at_half_size(&color, aux, Settings::PREVIEW, &crate::render::NoProgress).unwrap_err();
-    assert!(err.to_string().contains("albedo image is 4×8, the picture 8×8"), "{err}");
-}
