@@ -74,16 +74,3 @@ fn every_sample_model_renders_finite() {
     println!("{rendered} of {} sample files rendered, {refused} refused by name", files.len());
     assert_eq!(rendered + refused, files.len());
 }
-
-#[test]
-fn foxs_three_clips_give_one_warning_per_clip_they_overlap() {
-    // Fox carries three ordinary clips (Survey, Walk, Run) over one skeleton: each later clip is
-    // told once that it is ignored where Survey animates, not once per channel (42 lines).
-    let scene = tracer::scene::Scene::load(&sample("Fox")).unwrap();
-    assert_eq!(scene.warnings.len(), 2, "{:#?}", scene.warnings);
-    assert!(
-        scene.warnings[0]
-            .contains("animation 1 ('Walk'): its 21 channels animate what animation 0 ('Survey')")
-    );
-    assert!(scene.warnings[1].contains("animation 2 ('Run'): its 21 channels"), "{}", scene.warnings[1]);
-}
