@@ -37,8 +37,9 @@ mod attributes;
 mod path_state;
 mod scene_query;
 
+use crate::bvh::Bvh;
 #[cfg(any(test, feature = "test-support"))]
-use crate::bvh::{Bvh, Hit};
+use crate::bvh::Hit;
 use crate::error::{Result, TracerError};
 #[cfg(any(test, feature = "test-support"))]
 use crate::interaction::SurfaceInteraction;
