@@ -92,13 +92,14 @@ async fn strokes(rounds: usize, denoise: bool) -> Option<Vec<f64>> {
         return None;
     }
     client.request(json!({"type": "camera_duplicate", "index": 1})).await;
-    let stroke_ms = stroke_series(&mut client, rounds, 0).await;
+    let stroke_ms = stroke_series(&mut client, rounds, 0).await.split_off(1);
     drop(running);
     let _ = std::fs::remove_dir_all(&dir);
     Some(stroke_ms)
 }
 
-/// `rounds` timed strokes (after one untimed) on `client`'s session, 300 ms apart: a 40-pixel-wide
+/// The times of `rounds` + 1 strokes on `client`'s session (the first one's apart: it comes
+/// after a change of its own, e.g. the toggle), 300 ms apart: a 40-pixel-wide
 /// band of camera k, moving right each round; series `series` shifts k by one, so that a later
 /// series paints over an earlier one's bands with another camera. A stroke must change the
 /// labels: one that repeats what is painted leaves the state (and its `seq`) as it is, so no
@@ -116,9 +117,7 @@ async fn stroke_series(client: &mut Client, rounds: usize, series: u8) -> Vec<f6
         assert!(seq < Some(now), "stroke {round} of series {series} changed no label: no preview follows");
         seq = Some(now);
         client.preview(now, 1).await;
-        if round > 0 {
-            stroke_ms.push(t.elapsed().as_secs_f64() * 1e3);
-        }
+        stroke_ms.push(t.elapsed().as_secs_f64() * 1e3);
         tokio::time::sleep(Duration::from_millis(300)).await;
     }
     stroke_ms
@@ -135,7 +134,9 @@ async fn toggled(rounds: usize) {
     for (series, denoise) in [true, false, true].into_iter().enumerate() {
         client.request(json!({"type": "denoise", "on": denoise})).await;
         let shown = if denoise { "denoised" } else { "raw" };
-        let ms = stroke_series(&mut client, rounds, series as u8).await;
+        let mut ms = stroke_series(&mut client, rounds, series as u8).await;
+        println!("stroke right after the toggle to {shown}: {:.1} ms", ms[0]);
+        let ms = ms.split_off(1);
         summary(
             &format!(
                 "stroke -> first full-frame preview, series {} of a toggled session ({shown})",
