@@ -19,7 +19,8 @@
 //!
 //! - `cycles` (not in the default list): scores the renders of `benches/peers/cycles/denoise.sh`
 //!   (`DENOISE_BENCH_CYCLES`, default `target/peers/cycles/denoise`): each renderer's denoised
-//!   café against its own 1024-spp reference, time × relMSE and mcctrace's over Cycles'.
+//!   café against its own 1024-spp reference, time × relMSE and mcctrace's over Cycles', per seed
+//!   and their mean.
 //!
 //! Wall times stretch with the machine's load, so the timing table also gives each call's CPU
 //! seconds and half of them (two cores): about the idle machine's wall time.
@@ -190,9 +191,9 @@ fn convergence(d: &Denoiser, dir: &Path, cafe: &Shot) {
     }
 }
 
-/// The time × relMSE table of `benches/peers/cycles/denoise.sh`'s folder `dir`: per renderer and
-/// spp, the mean over seeds of the whole process's wall and CPU seconds and of the denoised
-/// picture's relMSE against the renderer's own 1024-spp reference.
+/// The time × relMSE table of `benches/peers/cycles/denoise.sh`'s folder `dir`: per spp, each
+/// seed's run of both renderers (the whole process's wall and CPU seconds, the denoised
+/// picture's relMSE against the renderer's own 1024-spp reference) and the mean over the seeds.
 fn cycles(dir: &Path) {
     let read = |name: &str| {
         tracer::image_io::read_exr(&dir.join(name))
@@ -205,40 +206,49 @@ fn cycles(dir: &Path) {
         "\n{}: café wide 240×135, denoised, against each renderer's own 1024-spp reference",
         dir.display()
     );
-    println!("spp,renderer,seeds,wall_s,cpu_s,rel_mse,wall_x_rel_mse,cpu_x_rel_mse,ratio_wall,ratio_cpu");
+    println!("spp,seed,renderer,wall_s,cpu_s,rel_mse,wall_x_rel_mse,cpu_x_rel_mse,ratio_wall,ratio_cpu");
+    let number = |v: &str| v.parse::<f64>().expect("a number");
     let mut spps: Vec<&str> = rows.iter().map(|r| r[1]).collect();
     spps.dedup();
     for spp in spps {
-        let mut products = Vec::new();
-        for (who, reference) in &refs {
-            let mine: Vec<&Vec<&str>> = rows.iter().filter(|r| r[0] == *who && r[1] == spp).collect();
-            let n = mine.len() as f64;
-            let mean =
-                |i: usize| mine.iter().map(|r| r[i].parse::<f64>().expect("a number")).sum::<f64>() / n;
-            let (wall, cpu) = (mean(3), mean(4));
-            let rel = mine
-                .iter()
-                .map(|r| {
-                    let exr = read(&format!("{who}-{spp}-{}.exr", r[2]));
-                    let image = if *who == "mcc" {
-                        exr.rgb_layer("denoised").expect("layer denoised").clone()
-                    } else {
-                        exr.rgb
-                    };
-                    rel_mse(&image, reference)
-                })
-                .sum::<f64>()
-                / n;
-            products.push((wall * rel, cpu * rel));
-            let (pw, pc) = products[products.len() - 1];
-            let name = if *who == "mcc" { "mcctrace" } else { "cycles" };
-            let ratio = if products.len() == 2 {
-                format!("{:.3},{:.3}", products[0].0 / pw, products[0].1 / pc)
-            } else {
-                String::new()
-            };
-            println!("{spp},{name},{},{wall:.2},{cpu:.2},{rel:.4e},{pw:.4e},{pc:.4e},{ratio}", mine.len());
+        let mut seeds: Vec<&str> = rows.iter().filter(|r| r[1] == spp).map(|r| r[2]).collect();
+        seeds.dedup();
+        // (wall, cpu, relMSE) per renderer, summed over the seeds for the mean.
+        let mut sums = [[0.0; 3]; 2];
+        for seed in &seeds {
+            let mut run = [[0.0; 3]; 2];
+            for (i, (who, reference)) in refs.iter().enumerate() {
+                let row = rows
+                    .iter()
+                    .find(|r| r[0] == *who && r[1] == spp && r[2] == *seed)
+                    .unwrap_or_else(|| panic!("times.csv lacks {who} at {spp} spp, seed {seed}"));
+                let exr = read(&format!("{who}-{spp}-{seed}.exr"));
+                let image = if *who == "mcc" {
+                    exr.rgb_layer("denoised").expect("layer denoised").clone()
+                } else {
+                    exr.rgb
+                };
+                run[i] = [number(row[3]), number(row[4]), rel_mse(&image, reference)];
+                (0..3).for_each(|k| sums[i][k] += run[i][k]);
+            }
+            print_pair(spp, seed, &run);
         }
+        let n = seeds.len() as f64;
+        print_pair(spp, &format!("mean of {}", seeds.len()), &sums.map(|r| r.map(|v| v / n)));
+    }
+}
+
+/// Two rows of the table: mcctrace's and Cycles' (wall, CPU, relMSE), the ratio of their
+/// time × relMSE on the second.
+fn print_pair(spp: &str, seed: &str, run: &[[f64; 3]; 2]) {
+    let product = |r: &[f64; 3]| (r[0] * r[2], r[1] * r[2]);
+    let (ours, theirs) = (product(&run[0]), product(&run[1]));
+    for (name, r, ratio) in [
+        ("mcctrace", &run[0], String::new()),
+        ("cycles", &run[1], format!("{:.3},{:.3}", ours.0 / theirs.0, ours.1 / theirs.1)),
+    ] {
+        let (pw, pc) = product(r);
+        println!("{spp},{seed},{name},{:.2},{:.2},{:.4e},{pw:.4e},{pc:.4e},{ratio}", r[0], r[1], r[2]);
     }
 }
 

@@ -6,7 +6,8 @@
 //!
 //! `cargo bench --bench studio` (`-- ROUNDS`, default 7; `-- remap ROUNDS`: the remap timings
 //! only, `-- remap glassner ROUNDS`: the column's blend only, `-- strokes ROUNDS`: the remap and stroke timings only, e.g. under
-//! `valgrind --tool=callgrind`).
+//! `valgrind --tool=callgrind`; `-- toggle ROUNDS`: strokes in one session toggled denoised,
+//! raw, denoised).
 
 use glam::UVec2;
 use mcc::lens_writer::pixel_centre_rays;
@@ -79,8 +80,7 @@ fn remap_timing(rounds: usize) {
     }
 }
 
-/// Stroke → first full-frame preview, `rounds` times (a 40-pixel-wide band of camera k, moving
-/// right each round), in a session of its own whose preview is shown denoised or raw from the
+/// Stroke → first full-frame preview, `rounds` times ([`stroke_series`]), in a session of its own whose preview is shown denoised or raw from the
 /// start; `None` when denoising is asked for and the denoiser is not installed.
 async fn strokes(rounds: usize, denoise: bool) -> Option<Vec<f64>> {
     let dir = std::env::temp_dir().join(format!("mcctrace-studio-bench-{}-{denoise}", std::process::id()));
@@ -92,24 +92,73 @@ async fn strokes(rounds: usize, denoise: bool) -> Option<Vec<f64>> {
         return None;
     }
     client.request(json!({"type": "camera_duplicate", "index": 1})).await;
-    let h = RES[1];
-    let mut stroke_ms = Vec::new();
-    for round in 0..rounds + 1 {
-        let (x, k) = (10 + 45 * (round as u32 % 10), 1 + round as u8 % 4);
-        let t = Instant::now();
-        let state = client.paint([x, 0, 40, h], &vec![k; (40 * h) as usize]).await;
-        client.preview(state["seq"].as_u64().unwrap(), 1).await;
-        if round > 0 {
-            stroke_ms.push(t.elapsed().as_secs_f64() * 1e3);
-        }
-        tokio::time::sleep(Duration::from_millis(300)).await;
-    }
+    let stroke_ms = stroke_series(&mut client, rounds, 0).await.split_off(1);
     drop(running);
     let _ = std::fs::remove_dir_all(&dir);
     Some(stroke_ms)
 }
 
+/// The times of `rounds` + 1 strokes on `client`'s session (the first one's apart: it comes
+/// after a change of its own, e.g. the toggle), 300 ms apart: a 40-pixel-wide
+/// band of camera k, moving right each round; series `series` shifts k by one, so that a later
+/// series paints over an earlier one's bands with another camera. A stroke must change the
+/// labels: one that repeats what is painted leaves the state (and its `seq`) as it is, so no
+/// preview follows it (a mid-session toggle once waited here for a minute for the picture of
+/// such a stroke, which had come before the stroke's reply).
+async fn stroke_series(client: &mut Client, rounds: usize, series: u8) -> Vec<f64> {
+    let h = RES[1];
+    let mut stroke_ms = Vec::new();
+    let mut seq = None;
+    for round in 0..rounds + 1 {
+        let (x, k) = (10 + 45 * (round as u32 % 10), 1 + (round as u8 + series) % 4);
+        let t = Instant::now();
+        let state = client.paint([x, 0, 40, h], &vec![k; (40 * h) as usize]).await;
+        let now = state["seq"].as_u64().unwrap();
+        assert!(seq < Some(now), "stroke {round} of series {series} changed no label: no preview follows");
+        seq = Some(now);
+        client.preview(now, 1).await;
+        stroke_ms.push(t.elapsed().as_secs_f64() * 1e3);
+        tokio::time::sleep(Duration::from_millis(300)).await;
+    }
+    stroke_ms
+}
+
+/// Strokes denoised, then raw, then denoised again in one session, the page's toggle between
+/// the series (`-- toggle ROUNDS`).
+async fn toggled(rounds: usize) {
+    let dir = std::env::temp_dir().join(format!("mcctrace-studio-bench-{}-toggle", std::process::id()));
+    let config = studio::Config { res: Some(RES), ..studio::Config::new(Some(cafe()), dir.clone()) };
+    let running = studio::serve(config).expect("the studio starts");
+    let mut client = Client::connect(&running).await;
+    client.request(json!({"type": "camera_duplicate", "index": 1})).await;
+    for (series, denoise) in [true, false, true].into_iter().enumerate() {
+        client.request(json!({"type": "denoise", "on": denoise})).await;
+        let shown = if denoise { "denoised" } else { "raw" };
+        let mut ms = stroke_series(&mut client, rounds, series as u8).await;
+        // The session starts denoised: its first stroke waits for the first thumbnails instead.
+        let what = if series == 0 {
+            "the session's first stroke".into()
+        } else {
+            format!("the stroke right after the toggle to {shown}")
+        };
+        println!("{what}: {:.1} ms", ms[0]);
+        let ms = ms.split_off(1);
+        summary(
+            &format!(
+                "stroke -> first full-frame preview, series {} of a toggled session ({shown})",
+                series + 1
+            ),
+            ms,
+        );
+    }
+    drop(running);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 async fn session(rounds: usize) {
+    if std::env::args().any(|a| a == "toggle") {
+        return toggled(rounds).await;
+    }
     for denoise in [true, false] {
         let shown = if denoise { "denoised" } else { "raw" };
         let what = format!("stroke -> first full-frame preview (480x270, 4 cameras, {shown})");

@@ -197,6 +197,17 @@ impl Progress for Stale<'_> {
     }
 }
 
+/// Opens the denoiser (when it is installed) on a render thread, before any page can ask for it.
+/// OIDN's CPU device filters on threads of its own, which whichever thread opens the device
+/// starts and which keep that thread's priority: opened by a socket handler (the `state` message
+/// names the denoiser's version), the preview's denoise ran at the page's nice 0, above the
+/// renders (docs/performance.md §1.7).
+pub fn open_denoiser(shared: &Shared) {
+    shared.pool.install(|| {
+        let _ = tracer::denoise::Denoiser::shared();
+    });
+}
+
 /// Starts the preview worker on its own thread.
 pub fn start_worker(shared: Arc<Shared>) -> std::thread::JoinHandle<()> {
     std::thread::Builder::new()
@@ -207,3 +218,6 @@ pub fn start_worker(shared: Arc<Shared>) -> std::thread::JoinHandle<()> {
         })
         .expect("a thread starts")
 }
+
+#[cfg(all(test, target_os = "linux"))]
+mod tests;

@@ -28,7 +28,7 @@ pub fn lower_current_thread(nice: i32) {
 
 /// The calling thread's nice value (Linux), for tests.
 #[cfg(all(test, target_os = "linux"))]
-fn current_nice() -> i32 {
+pub(crate) fn current_nice() -> i32 {
     // SAFETY: as above.
     unsafe { libc::getpriority(libc::PRIO_PROCESS, 0) }
 }

@@ -34,9 +34,13 @@ struct CameraCache {
     key: [u32; 10],
     rays: RayFile,
     thumb: Option<RgbImage>,
+    /// The thumbnail's samples per pixel.
+    thumb_spp: u32,
     view: Option<RgbImage>,
     /// No thumbnail of this camera has been shown yet: its first is a recognisable one.
     first: bool,
+    /// The thumbnail shown was denoised (the page's toggle when it was made).
+    denoised: bool,
 }
 
 /// The first thumbnail of a camera (what a new page shows before anything is painted): half the
@@ -53,21 +57,12 @@ pub struct Worker {
     tracer: Option<Arc<PathTracer>>,
     cameras: BTreeMap<u32, CameraCache>,
     remap: Option<(u64, Arc<RemapOutput>)>,
-    /// Whether the cached thumbnails were shown denoised (they are sent again when it changes).
-    thumbs_denoised: bool,
 }
 
 impl Worker {
     /// A worker with empty caches.
     pub fn new(shared: Arc<Shared>) -> Self {
-        Self {
-            shared,
-            frame: None,
-            tracer: None,
-            cameras: BTreeMap::new(),
-            remap: None,
-            thumbs_denoised: false,
-        }
+        Self { shared, frame: None, tracer: None, cameras: BTreeMap::new(), remap: None }
     }
 
     /// Serves snapshots until the engine stops.
@@ -149,27 +144,12 @@ impl Worker {
         let tracer = Arc::clone(self.tracer.as_ref().expect("set above"));
         self.update_rays(snap)?;
         let denoise = Self::denoising(snap);
-        if denoise != self.thumbs_denoised {
-            // The toggle changed: every thumbnail is shown again the other way.
-            self.cameras.values_mut().for_each(|c| c.thumb = None);
-            self.thumbs_denoised = denoise;
-        }
         // Moved cameras' thumbnails first: the page shows a camera move there. The cache keeps
         // the raw samples (painted pixels fall back on them); the page sees them denoised.
         let coarse = self.coarse(snap);
-        let d = self.shared.settings.coarse_divisor.clamp(1, FIRST_THUMB_DIVISOR);
-        let first_size = UVec2::new((snap.res[0] / d).max(1), (snap.res[1] / d).max(1));
         for cam in &snap.cameras {
-            let cache = &self.cameras[&cam.index];
-            if cache.thumb.is_none() {
-                let (size, spp) = if cache.first { (first_size, FIRST_THUMB_SPP) } else { (coarse, 1) };
-                let images =
-                    self.render_view(&tracer, snap, cam, size, Self::quality(spp, denoise), &stale)?;
-                let raw = images.image.clone();
-                let shown = Self::shown(images, denoise, &stale)?;
-                self.send(snap, ImageKind::Thumb, Some(cam.index), spp, &srgb(&shown))?;
-                let cache = self.cameras.get_mut(&cam.index).expect("updated");
-                (cache.thumb, cache.first) = (Some(raw), false);
+            if self.cameras[&cam.index].thumb.is_none() {
+                self.show_thumb(&tracer, snap, cam, denoise, &stale)?;
             }
         }
         let res = UVec2::new(snap.res[0], snap.res[1]);
@@ -190,6 +170,14 @@ impl Worker {
             self.send(snap, ImageKind::Preview, None, 1, &srgb(&full))?;
         }
         self.view_picture(snap, remapped.as_deref())?;
+        // Thumbnails shown the other way than the toggle now says: after the stroke's first
+        // picture, which they held up by four renders when they came first (seconds on a
+        // loaded machine, at the render threads' low priority).
+        for cam in &snap.cameras {
+            if self.cameras[&cam.index].denoised != denoise {
+                self.show_thumb(&tracer, snap, cam, denoise, &stale)?;
+            }
+        }
         // Idle: the views at full resolution, then the preview with more and more samples.
         let view_spp = self.shared.settings.view_spp;
         for cam in &snap.cameras {
@@ -230,6 +218,35 @@ impl Worker {
         Ok(())
     }
 
+    /// Renders and sends camera `cam`'s thumbnail, denoised or not: the first one recognisable
+    /// (half the collage's size, a few samples), later ones coarse at 1 spp. A raw one already
+    /// cached is sent as it is.
+    fn show_thumb(
+        &mut self,
+        tracer: &PathTracer,
+        snap: &Snapshot,
+        cam: &StudioCamera,
+        denoise: bool,
+        stale: &Stale<'_>,
+    ) -> Result<()> {
+        let cache = &self.cameras[&cam.index];
+        if let (false, Some(raw)) = (denoise, &cache.thumb) {
+            self.send(snap, ImageKind::Thumb, Some(cam.index), cache.thumb_spp, &srgb(raw))?;
+            self.cameras.get_mut(&cam.index).expect("cached").denoised = false;
+            return Ok(());
+        }
+        let d = self.shared.settings.coarse_divisor.clamp(1, FIRST_THUMB_DIVISOR);
+        let first_size = UVec2::new((snap.res[0] / d).max(1), (snap.res[1] / d).max(1));
+        let (size, spp) = if cache.first { (first_size, FIRST_THUMB_SPP) } else { (self.coarse(snap), 1) };
+        let images = self.render_view(tracer, snap, cam, size, Self::quality(spp, denoise), stale)?;
+        let raw = images.image.clone();
+        let shown = Self::shown(images, denoise, stale)?;
+        self.send(snap, ImageKind::Thumb, Some(cam.index), spp, &srgb(&shown))?;
+        let cache = self.cameras.get_mut(&cam.index).expect("cached");
+        (cache.thumb, cache.thumb_spp, cache.first, cache.denoised) = (Some(raw), spp, false, denoise);
+        Ok(())
+    }
+
     /// Recomputes the rays of cameras whose pose changed (from the camera model, no tracing)
     /// and forgets their pictures; drops cameras the key no longer has.
     fn update_rays(&mut self, snap: &Snapshot) -> Result<()> {
@@ -244,8 +261,16 @@ impl Worker {
             let info = FrameInfo { frame: snap.frame, camera_id: cam.index, shutter: (0.0, 0.0) };
             let rays = pixel_centre_rays(&chain.generator(camera.as_ref()), res, info, Vec::new())?;
             let first = self.cameras.get(&cam.index).is_none_or(|c| c.first);
-            self.cameras
-                .insert(cam.index, CameraCache { key: cam.key(), rays, thumb: None, view: None, first });
+            let cache = CameraCache {
+                key: cam.key(),
+                rays,
+                thumb: None,
+                thumb_spp: 0,
+                view: None,
+                first,
+                denoised: false,
+            };
+            self.cameras.insert(cam.index, cache);
         }
         Ok(())
     }
@@ -350,3 +375,7 @@ impl Worker {
         self.send(snap, ImageKind::View, camera, 0, &image)
     }
 }
+
+#[cfg(test)]
+#[path = "worker_tests.rs"]
+mod tests;

@@ -113,6 +113,7 @@ struct AppState {
 /// a thread of its own; returns at once with the URL.
 pub fn serve(config: Config) -> Result<Running> {
     let shared = Arc::new(crate::project::open_session(&config)?);
+    crate::engine::open_denoiser(&shared);
     let listener = std::net::TcpListener::bind((config.listen, config.port)).map_err(|e| {
         StudioError::Server(format!("cannot listen on {}:{}: {e}", config.listen, config.port))
     })?;
