@@ -100,38 +100,38 @@ pub fn run(root: &Path) {
     println!("wrote {}/cafe.csv and cafe.png", dir.display());
 }
 
-fn plot(path: &Path, rows: &[Row]) -> Result<(), Box<dyn std::error::Error>> {
-    crate::register_font()?;
-    let root = BitMapBackend::new(path, (1000, 700)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let (t_lo, t_hi) = (rows[0].seconds / 1.5, rows[rows.len() - 1].seconds * 1.5);
-    let e_hi = rows[0].rel_mse.max(CYCLES_PRODUCT / t_lo) * 1.5;
-    let e_lo = rows[rows.len() - 1].rel_mse.min(0.5 * CYCLES_PRODUCT / t_hi) / 1.5;
-    let caption = format!("Café `wide` {}×{}, 8 vertices: relMSE vs time, 2 seeds", SIZE.x, SIZE.y);
-    let axes = ("time: scene preparation + render [s] (log)", "relMSE, variance part from two seeds (log)");
-    let mut chart = crate::log_log_chart(&root, &caption, axes, t_lo..t_hi, e_lo..e_hi)?;
-    // Lines of constant time × relMSE: Cycles', and the target at half of it.
-    let orange = RGBColor(230, 130, 0);
-    let line = |k: f64| [(t_lo, k / t_lo), (t_hi, k / t_hi)];
-    chart
-        .draw_series(LineSeries::new(line(CYCLES_PRODUCT), orange.stroke_width(3)))?
-        .label(format!("Blender Cycles (time × relMSE = {CYCLES_PRODUCT:.3})"))
-        .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], orange.stroke_width(3)));
-    let grey = RGBColor(120, 120, 120);
-    chart
-        .draw_series(LineSeries::new(line(0.5 * CYCLES_PRODUCT), grey.stroke_width(2)))?
-        .label("target: Cycles' relMSE in half its time")
-        .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], grey.stroke_width(2)));
-    let red = RGBColor(200, 40, 40);
-    let points: Vec<(f64, f64)> = rows.iter().map(|r| (r.seconds, r.rel_mse)).collect();
-    chart
-        .draw_series(LineSeries::new(points.clone(), red.stroke_width(3)))?
-        .label(format!("mcctrace (1 … {LAST_SPP} spp)"))
-        .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], red.stroke_width(3)));
-    chart.draw_series(points.iter().map(|&p| Circle::new(p, 5, red.filled())))?;
-    chart.draw_series(rows.iter().map(|r| {
-        let label = ("sans-serif", 15).into_font().color(&red);
-        EmptyElement::at((r.seconds, r.rel_mse)) + Text::new(format!("{} spp", r.spp), (-62, -22), label)
-    }))?;
-    crate::finish_chart(&mut chart, &root)
+fn plot(path: &Path, rows: &[Row]) -> crate::Drawn {
+    crate::write_png(path, |root| {
+        let (t_lo, t_hi) = (rows[0].seconds / 1.5, rows[rows.len() - 1].seconds * 1.5);
+        let e_hi = rows[0].rel_mse.max(CYCLES_PRODUCT / t_lo) * 1.5;
+        let e_lo = rows[rows.len() - 1].rel_mse.min(0.5 * CYCLES_PRODUCT / t_hi) / 1.5;
+        let caption = format!("Café `wide` {}×{}, 8 vertices: relMSE vs time, 2 seeds", SIZE.x, SIZE.y);
+        let axes =
+            ("time: scene preparation + render [s] (log)", "relMSE, variance part from two seeds (log)");
+        let mut chart = crate::log_log_chart(root, &caption, axes, t_lo..t_hi, e_lo..e_hi)?;
+        // Lines of constant time × relMSE: Cycles', and the target at half of it.
+        let orange = RGBColor(230, 130, 0);
+        let line = |k: f64| [(t_lo, k / t_lo), (t_hi, k / t_hi)];
+        chart
+            .draw_series(LineSeries::new(line(CYCLES_PRODUCT), orange.stroke_width(3)))?
+            .label(format!("Blender Cycles (time × relMSE = {CYCLES_PRODUCT:.3})"))
+            .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], orange.stroke_width(3)));
+        let grey = RGBColor(120, 120, 120);
+        chart
+            .draw_series(LineSeries::new(line(0.5 * CYCLES_PRODUCT), grey.stroke_width(2)))?
+            .label("target: Cycles' relMSE in half its time")
+            .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], grey.stroke_width(2)));
+        let red = RGBColor(200, 40, 40);
+        let points: Vec<(f64, f64)> = rows.iter().map(|r| (r.seconds, r.rel_mse)).collect();
+        chart
+            .draw_series(LineSeries::new(points.clone(), red.stroke_width(3)))?
+            .label(format!("mcctrace (1 … {LAST_SPP} spp)"))
+            .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], red.stroke_width(3)));
+        chart.draw_series(points.iter().map(|&p| Circle::new(p, 5, red.filled())))?;
+        chart.draw_series(rows.iter().map(|r| {
+            let label = ("sans-serif", 15).into_font().color(&red);
+            EmptyElement::at((r.seconds, r.rel_mse)) + Text::new(format!("{} spp", r.spp), (-62, -22), label)
+        }))?;
+        crate::finish_chart(&mut chart, root)
+    })
 }

@@ -133,85 +133,84 @@ pub fn run(root: &Path) {
 /// A series of rows and its crossing of the target.
 type Series = (Vec<Row>, Option<(f64, f64)>);
 
-fn plot(path: &Path, all: &[Series; 4]) -> Result<(), Box<dyn std::error::Error>> {
-    crate::register_font()?;
-    let root = BitMapBackend::new(path, (1000, 700)).into_drawing_area();
-    root.fill(&WHITE)?;
-
-    let peers = MITSUBA_LLVM.iter().chain(&MITSUBA_SCALAR).chain(std::iter::once(&CYCLES_AT_TARGET));
-    let (mut t_lo, mut t_hi, mut e_lo, mut e_hi) = (f64::INFINITY, 0f64, f64::INFINITY, 0f64);
-    let ours: Vec<(f64, f64)> = all.iter().flat_map(|s| &s.0).map(|r| (r.seconds, r.rel_mse)).collect();
-    for &(t, e) in ours.iter().chain(peers) {
-        (t_lo, t_hi, e_lo, e_hi) = (t_lo.min(t), t_hi.max(t), e_lo.min(e), e_hi.max(e));
-    }
-    let (t_lo, t_hi) = (t_lo / 1.5, t_hi * 1.5);
-    let (e_lo, e_hi) = (e_lo.min(TARGET) / 1.5, e_hi * 1.5);
-
-    let caption = format!(
-        "Cornell box {SIZE}², 4 bounces: relMSE vs render time ({} threads)",
-        rayon::current_num_threads()
-    );
-    let axes = ("render time [s] (log)", "relMSE vs Mitsuba 16384 spp (log)");
-    let mut chart = crate::log_log_chart(&root, &caption, axes, t_lo..t_hi, e_lo..e_hi)?;
-
-    // The target line.
-    let grey = RGBColor(120, 120, 120);
-    chart
-        .draw_series(LineSeries::new([(t_lo, TARGET), (t_hi, TARGET)], grey.stroke_width(2)))?
-        .label(format!("relMSE = {TARGET:.0e}"))
-        .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], grey.stroke_width(2)));
-
-    // mcctrace: every series; spp labels only on the first two (the others would overlap).
-    let [uniform, adaptive, split, adaptive_split] = all;
-    for ((rows, crossing), colour, name, dy, labels) in [
-        (uniform, RGBColor(200, 40, 40), "mcctrace (1 … 256 spp)", -22, true),
-        (adaptive, RGBColor(150, 40, 160), "mcctrace adaptive (4 … 256 spp average)", 14, true),
-        (split, RGBColor(230, 120, 110), "mcctrace --split 2 (1 … 128 spp)", -22, false),
-        (adaptive_split, RGBColor(200, 140, 210), "mcctrace adaptive --split 2 (4 … 128 spp)", 14, false),
-    ] {
-        let points: Vec<(f64, f64)> = rows.iter().map(|r| (r.seconds, r.rel_mse)).collect();
-        chart
-            .draw_series(LineSeries::new(points.clone(), colour.stroke_width(3)))?
-            .label(name)
-            .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], colour.stroke_width(3)));
-        chart.draw_series(points.iter().map(|&p| Circle::new(p, 5, colour.filled())))?;
-        // "N spp" beside each point: above left for the uniform series, below for the other.
-        chart.draw_series(rows.iter().filter(|_| labels).map(|r| {
-            let label = ("sans-serif", 15).into_font().color(&colour);
-            EmptyElement::at((r.seconds, r.rel_mse)) + Text::new(format!("{} spp", r.spp), (-62, dy), label)
-        }))?;
-        if let Some((t, _)) = *crossing {
-            chart.draw_series(std::iter::once(Cross::new((t, TARGET), 9, colour.stroke_width(3))))?;
-            let label = ("sans-serif", 16).into_font().color(&colour);
-            chart.draw_series(std::iter::once(
-                EmptyElement::at((t, TARGET))
-                    + Text::new(format!("1e-3 at {t:.2} s"), (10, dy.signum() * 20 + 8), label),
-            ))?;
+fn plot(path: &Path, all: &[Series; 4]) -> crate::Drawn {
+    crate::write_png(path, |root| {
+        let peers = MITSUBA_LLVM.iter().chain(&MITSUBA_SCALAR).chain(std::iter::once(&CYCLES_AT_TARGET));
+        let (mut t_lo, mut t_hi, mut e_lo, mut e_hi) = (f64::INFINITY, 0f64, f64::INFINITY, 0f64);
+        let ours: Vec<(f64, f64)> = all.iter().flat_map(|s| &s.0).map(|r| (r.seconds, r.rel_mse)).collect();
+        for &(t, e) in ours.iter().chain(peers) {
+            (t_lo, t_hi, e_lo, e_hi) = (t_lo.min(t), t_hi.max(t), e_lo.min(e), e_hi.max(e));
         }
-    }
+        let (t_lo, t_hi) = (t_lo / 1.5, t_hi * 1.5);
+        let (e_lo, e_hi) = (e_lo.min(TARGET) / 1.5, e_hi * 1.5);
 
-    // Peers.
-    let blue = RGBColor(30, 90, 200);
-    chart
-        .draw_series(MITSUBA_LLVM.iter().map(|&p| TriangleMarker::new(p, 9, blue.filled())))?
-        .label("Mitsuba 3 llvm_ad_rgb (16, 64, 256 spp)")
-        .legend(move |(x, y)| TriangleMarker::new((x + 12, y), 7, blue.filled()));
-    let teal = RGBColor(20, 150, 130);
-    chart
-        .draw_series(
-            MITSUBA_SCALAR
-                .iter()
-                .map(|&p| EmptyElement::at(p) + Rectangle::new([(-6, -6), (6, 6)], teal.filled())),
-        )?
-        .label("Mitsuba 3 scalar_rgb (64 spp)")
-        .legend(move |(x, y)| Rectangle::new([(x + 7, y - 5), (x + 17, y + 5)], teal.filled()));
-    let orange = RGBColor(230, 130, 0);
-    chart
-        .draw_series(std::iter::once(
-            EmptyElement::at(CYCLES_AT_TARGET) + Circle::new((0, 0), 8, orange.filled()),
-        ))?
-        .label("Blender Cycles: 1e-3 after ≈ 3.8 s")
-        .legend(move |(x, y)| Circle::new((x + 12, y), 6, orange.filled()));
+        let caption = format!(
+            "Cornell box {SIZE}², 4 bounces: relMSE vs render time ({} threads)",
+            rayon::current_num_threads()
+        );
+        let axes = ("render time [s] (log)", "relMSE vs Mitsuba 16384 spp (log)");
+        let mut chart = crate::log_log_chart(root, &caption, axes, t_lo..t_hi, e_lo..e_hi)?;
 
-    crate::finish_chart(&mut chart, &root)
+        // The target line.
+        let grey = RGBColor(120, 120, 120);
+        chart
+            .draw_series(LineSeries::new([(t_lo, TARGET), (t_hi, TARGET)], grey.stroke_width(2)))?
+            .label(format!("relMSE = {TARGET:.0e}"))
+            .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], grey.stroke_width(2)));
+
+        // mcctrace: every series; spp labels only on the first two (the others would overlap).
+        let [uniform, adaptive, split, adaptive_split] = all;
+        for ((rows, crossing), colour, name, dy, labels) in [
+            (uniform, RGBColor(200, 40, 40), "mcctrace (1 … 256 spp)", -22, true),
+            (adaptive, RGBColor(150, 40, 160), "mcctrace adaptive (4 … 256 spp average)", 14, true),
+            (split, RGBColor(230, 120, 110), "mcctrace --split 2 (1 … 128 spp)", -22, false),
+            (adaptive_split, RGBColor(200, 140, 210), "mcctrace adaptive --split 2 (4 … 128 spp)", 14, false),
+        ] {
+            let points: Vec<(f64, f64)> = rows.iter().map(|r| (r.seconds, r.rel_mse)).collect();
+            chart
+                .draw_series(LineSeries::new(points.clone(), colour.stroke_width(3)))?
+                .label(name)
+                .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], colour.stroke_width(3)));
+            chart.draw_series(points.iter().map(|&p| Circle::new(p, 5, colour.filled())))?;
+            // "N spp" beside each point: above left for the uniform series, below for the other.
+            chart.draw_series(rows.iter().filter(|_| labels).map(|r| {
+                let label = ("sans-serif", 15).into_font().color(&colour);
+                EmptyElement::at((r.seconds, r.rel_mse))
+                    + Text::new(format!("{} spp", r.spp), (-62, dy), label)
+            }))?;
+            if let Some((t, _)) = *crossing {
+                chart.draw_series(std::iter::once(Cross::new((t, TARGET), 9, colour.stroke_width(3))))?;
+                let label = ("sans-serif", 16).into_font().color(&colour);
+                chart.draw_series(std::iter::once(
+                    EmptyElement::at((t, TARGET))
+                        + Text::new(format!("1e-3 at {t:.2} s"), (10, dy.signum() * 20 + 8), label),
+                ))?;
+            }
+        }
+
+        // Peers.
+        let blue = RGBColor(30, 90, 200);
+        chart
+            .draw_series(MITSUBA_LLVM.iter().map(|&p| TriangleMarker::new(p, 9, blue.filled())))?
+            .label("Mitsuba 3 llvm_ad_rgb (16, 64, 256 spp)")
+            .legend(move |(x, y)| TriangleMarker::new((x + 12, y), 7, blue.filled()));
+        let teal = RGBColor(20, 150, 130);
+        chart
+            .draw_series(
+                MITSUBA_SCALAR
+                    .iter()
+                    .map(|&p| EmptyElement::at(p) + Rectangle::new([(-6, -6), (6, 6)], teal.filled())),
+            )?
+            .label("Mitsuba 3 scalar_rgb (64 spp)")
+            .legend(move |(x, y)| Rectangle::new([(x + 7, y - 5), (x + 17, y + 5)], teal.filled()));
+        let orange = RGBColor(230, 130, 0);
+        chart
+            .draw_series(std::iter::once(
+                EmptyElement::at(CYCLES_AT_TARGET) + Circle::new((0, 0), 8, orange.filled()),
+            ))?
+            .label("Blender Cycles: 1e-3 after ≈ 3.8 s")
+            .legend(move |(x, y)| Circle::new((x + 12, y), 6, orange.filled()));
+
+        crate::finish_chart(&mut chart, root)
+    })
 }

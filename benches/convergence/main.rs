@@ -12,7 +12,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 use std::ops::Range;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// One point of a series: samples per pixel, seconds, relMSE.
 struct Row {
@@ -53,6 +53,27 @@ fn time_to(rows: &[Row], target: f64) -> Option<(f64, f64)> {
 fn register_font() -> Result<(), Box<dyn std::error::Error>> {
     plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular())
         .map_err(|_| "the bundled DejaVu Sans font did not load".into())
+}
+
+/// The plots' size in pixels.
+const PLOT_SIZE: (u32, u32) = (1000, 700);
+
+/// The result of drawing a plot.
+type Drawn = Result<(), Box<dyn std::error::Error>>;
+
+/// Draws a plot with `draw` on a white RGB buffer and writes it to `path` as PNG, encoded by the
+/// workspace's `image` (plotters' own encoder would build a second, older `image`).
+fn write_png(path: &Path, draw: impl FnOnce(&DrawingArea<BitMapBackend<'_>, Shift>) -> Drawn) -> Drawn {
+    register_font()?;
+    let (w, h) = PLOT_SIZE;
+    let mut rgb = vec![0u8; w as usize * h as usize * 3];
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, PLOT_SIZE).into_drawing_area();
+        root.fill(&WHITE)?;
+        draw(&root)?;
+    }
+    image::save_buffer(path, &rgb, w, h, image::ExtendedColorType::Rgb8)?;
+    Ok(())
 }
 
 /// A log–log chart on `root` over seconds `t` and relMSE `e`, with its caption and axis names.

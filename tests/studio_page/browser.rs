@@ -2,11 +2,9 @@
 //! flags Chromium needs as root on a closed network, real pointer strokes, page scripts, and
 //! waiting for the page's state.
 
+use super::webdriver::Session;
 use base64::Engine;
 use base64::engine::general_purpose::STANDARD as BASE64;
-use fantoccini::actions::{InputSource, MOUSE_BUTTON_LEFT, MouseActions, PointerAction};
-use fantoccini::{Client, ClientBuilder, Locator};
-use hyper_util::client::legacy::connect::HttpConnector;
 use serde_json::{Value, json};
 use std::net::TcpListener;
 use std::os::unix::process::CommandExt;
@@ -22,7 +20,7 @@ pub fn free_port() -> u16 {
 /// A chromedriver process and one headless Chromium session through it; both end on drop.
 pub struct Browser {
     /// The WebDriver session.
-    pub client: Client,
+    pub client: Session,
     driver: Child,
 }
 
@@ -58,9 +56,7 @@ impl Browser {
         let url = format!("http://127.0.0.1:{port}");
         let deadline = Instant::now() + Duration::from_secs(60);
         let client = loop {
-            let attempt =
-                ClientBuilder::new(HttpConnector::new()).capabilities(caps.clone()).connect(&url).await;
-            match attempt {
+            match Session::new(&url, Value::Object(caps.clone())).await {
                 Ok(client) => break client,
                 Err(e) if Instant::now() > deadline => panic!("no WebDriver session from chromedriver: {e}"),
                 Err(_) => tokio::time::sleep(Duration::from_millis(200)).await,
@@ -115,51 +111,39 @@ impl Browser {
 
     /// Clicks the element `css` selects.
     pub async fn click(&self, css: &str) {
-        let element = self.client.find(Locator::Css(css)).await.unwrap_or_else(|e| panic!("no `{css}`: {e}"));
-        element.click().await.unwrap_or_else(|e| panic!("click `{css}`: {e}"));
+        let element = self.client.find(css).await.unwrap_or_else(|e| panic!("no `{css}`: {e}"));
+        self.client.click(&element).await.unwrap_or_else(|e| panic!("click `{css}`: {e}"));
     }
 
     /// Types `text` into the input `css` selects, replacing its value, and fires its change event.
     pub async fn type_into(&self, css: &str, text: &str) {
-        let element = self.client.find(Locator::Css(css)).await.unwrap_or_else(|e| panic!("no `{css}`: {e}"));
-        element.clear().await.expect("clear the input");
-        element.send_keys(text).await.expect("type into the input");
-        self.js(
-            "arguments[0].dispatchEvent(new Event('change', {bubbles: true}))",
-            vec![serde_json::to_value(&element).unwrap()],
-        )
-        .await;
+        let element = self.client.find(css).await.unwrap_or_else(|e| panic!("no `{css}`: {e}"));
+        self.client.clear(&element).await.unwrap_or_else(|e| panic!("clear `{css}`: {e}"));
+        self.client.send_keys(&element, text).await.unwrap_or_else(|e| panic!("type into `{css}`: {e}"));
+        self.js("arguments[0].dispatchEvent(new Event('change', {bubbles: true}))", vec![element.to_json()])
+            .await;
     }
 
     /// Drags the mouse with the left button through `points` (viewport pixels), as a user would:
     /// press at the first, move through the rest, release at the last.
     pub async fn drag(&self, points: &[(f64, f64)]) {
-        let (x0, y0) = points[0];
-        let mut mouse = MouseActions::new("mouse".into())
-            .then(PointerAction::MoveTo { duration: None, x: x0.round(), y: y0.round() })
-            .then(PointerAction::Down { button: MOUSE_BUTTON_LEFT });
-        for &(x, y) in &points[1..] {
-            mouse = mouse.then(PointerAction::MoveTo {
-                duration: Some(Duration::from_millis(30)),
-                x: x.round(),
-                y: y.round(),
-            });
-        }
-        mouse = mouse.then(PointerAction::Up { button: MOUSE_BUTTON_LEFT });
-        self.client.perform_actions(mouse).await.expect("perform the pointer actions");
-        self.client.release_actions().await.expect("release the pointer");
+        let move_to = |(x, y): (f64, f64), ms: u64| json!({ "type": "pointerMove", "duration": ms, "origin": "viewport", "x": x.round() as i64, "y": y.round() as i64 });
+        let mut actions = vec![move_to(points[0], 0), json!({ "type": "pointerDown", "button": 0 })];
+        actions.extend(points[1..].iter().map(|&p| move_to(p, 30)));
+        actions.push(json!({ "type": "pointerUp", "button": 0 }));
+        self.client.mouse(actions).await.unwrap_or_else(|e| panic!("the pointer actions: {e}"));
     }
 
     /// A PNG screenshot of the page.
     pub async fn screenshot(&self) -> Vec<u8> {
-        self.client.screenshot().await.expect("take a screenshot")
+        self.client.screenshot().await.unwrap_or_else(|e| panic!("take a screenshot: {e}"))
     }
 }
 
 impl Browser {
     /// Ends the WebDriver session (Chromium quits) before chromedriver is stopped.
     pub async fn quit(self) {
-        let _ = self.client.clone().close().await;
+        let _ = self.client.close().await;
     }
 }
 

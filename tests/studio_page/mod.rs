@@ -12,6 +12,7 @@ mod browser;
 mod layout;
 mod record;
 mod server;
+mod webdriver;
 
 use crate::common::external::{external, under_ci};
 use crate::common::{Scratch, repo_root};
@@ -317,7 +318,7 @@ fn paint_two_cameras_preview_save_and_render_final() {
     runtime.block_on(async {
         let b = Browser::start(&chromium, &chromedriver, &scratch.path("profile"), lay.window).await;
         // `probe`: the page loads its read-out for the test (`window.studio`, probe.js).
-        b.client.goto(&format!("{}&probe", studio.url)).await.expect("open the studio page");
+        b.client.goto(&format!("{}&probe", studio.url)).await.unwrap_or_else(|e| panic!("open the studio page: {e}"));
         let thumbs = "return window.studio && window.studio.sources.filter(Boolean).length >= 2";
         b.wait_for("both cameras' thumbnails", thumbs, patience).await;
         first_page_shows_the_views_and_says_what_to_do(&b, &lay, patience).await;
