@@ -25,6 +25,7 @@ mod instances;
 mod leaving;
 mod motion;
 mod node;
+mod orient;
 mod walk;
 
 use crate::ray::Ray;
@@ -222,9 +223,11 @@ impl Bvh {
         if self.motion.is_some() || self.instances.is_some() || mesh.triangle_count() != self.slot_of.len() {
             return false;
         }
-        for (tri, &t) in self.triangles.iter_mut().zip(&self.triangle_ids) {
-            *tri = mesh.corners(t as usize).map(|p| p.to_array());
-        }
+        use rayon::prelude::*;
+        self.triangles.par_iter_mut().zip(&self.triangle_ids).for_each(|(tri, &t)| {
+            let [a, b, c] = mesh.corners(t as usize);
+            *tri = [a.to_array(), b.to_array(), c.to_array()];
+        });
         fit_boxes(&mut self.nodes, &self.triangles, 1);
         self.sides = sides_of(&self.nodes, &self.triangles);
         true
@@ -519,37 +522,58 @@ fn widen(cwbvh: &CwBvh, triangles: &[[[f32; 3]; 3]], stride: usize) -> Vec<WideN
 
 /// Sets every child box of `nodes` (whose structure is set) from `triangles` (`stride` corner
 /// sets per slot): what building does once and refitting does per frame.
+///
+/// obvhs numbers every inner node after its parent, so one pass from the last node to the root
+/// sees each child's box before its parent needs it; a tree numbered otherwise is visited in
+/// an order found by a walk from the root. Boxes are SIMD min/max folds over the corners in
+/// slot order, with no per-node allocation (docs/performance.md, ledger: "refit: exact sides
+/// in integers").
 fn fit_boxes(nodes: &mut [WideNode], triangles: &[[[f32; 3]; 3]], stride: usize) {
+    use glam::Vec3A;
     if nodes.is_empty() {
         return;
     }
-    // Parents before children (depth-first from the root), so the reverse order sees every
-    // child's box before its parent needs it.
-    let mut order = Vec::with_capacity(nodes.len());
-    let mut pending = vec![0usize];
-    while let Some(i) = pending.pop() {
-        order.push(i);
-        let n = &nodes[i];
-        pending.extend((0..8).filter(|&c| n.inner >> c & 1 != 0).map(|c| n.index[c] as usize));
-    }
-    let mut bounds = vec![None::<(Vec3, Vec3)>; nodes.len()];
-    for &i in order.iter().rev() {
+    let children_after = nodes
+        .iter()
+        .enumerate()
+        .all(|(i, n)| (0..8).filter(|&c| n.inner >> c & 1 != 0).all(|c| n.index[c] as usize > i));
+    let order: Vec<usize> = if children_after {
+        (0..nodes.len()).rev().collect()
+    } else {
+        // Parents before children (depth-first from the root), reversed.
+        let (mut order, mut pending) = (Vec::with_capacity(nodes.len()), vec![0usize]);
+        while let Some(i) = pending.pop() {
+            order.push(i);
+            let n = &nodes[i];
+            pending.extend((0..8).filter(|&c| n.inner >> c & 1 != 0).map(|c| n.index[c] as usize));
+        }
+        order.reverse();
+        order
+    };
+    let empty = (Vec3A::splat(f32::INFINITY), Vec3A::splat(f32::NEG_INFINITY));
+    let mut bounds = vec![empty; nodes.len()];
+    for i in order {
         let wide = &mut nodes[i];
-        let mut total: Option<(Vec3, Vec3)> = None;
+        let mut total = empty;
         for c in 0..8 {
-            let child_box = if wide.leaves >> c & 1 != 0 {
+            let (lo, hi) = if wide.leaves >> c & 1 != 0 {
                 let (first, count) = (wide.index[c] as usize, wide.count[c] as usize);
-                let corners = triangles[first * stride..(first + count) * stride].iter().flatten();
-                corners.fold(None, |b, &p| Some(grow(b, Vec3::from_array(p))))
+                let (mut lo, mut hi) = empty;
+                for tri in &triangles[first * stride..(first + count) * stride] {
+                    for p in tri {
+                        let p = Vec3A::new(p[0], p[1], p[2]);
+                        (lo, hi) = (lo.min(p), hi.max(p));
+                    }
+                }
+                (lo, hi)
             } else if wide.inner >> c & 1 != 0 {
                 bounds[wide.index[c] as usize]
             } else {
                 continue;
             };
-            if let Some((lo, hi)) = child_box {
-                wide.set_box(c, lo, hi);
-                total = Some(total.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi))));
-            }
+            // A child with no corner keeps the empty box, which no ray enters.
+            wide.set_box(c, lo.into(), hi.into());
+            total = (total.0.min(lo), total.1.max(hi));
         }
         bounds[i] = total;
     }
@@ -562,11 +586,6 @@ fn sides_of(nodes: &[WideNode], triangles: &[[[f32; 3]; 3]]) -> Vec<SlotSides> {
         .flat_map(|n| (0..8).filter(|&c| n.leaves >> c & 1 != 0).map(|c| (n.index[c], n.count[c] as u32)))
         .collect();
     leaving::slot_sides(&leaves, triangles)
-}
-
-/// `b` grown to hold `p`.
-fn grow(b: Option<(Vec3, Vec3)>, p: Vec3) -> (Vec3, Vec3) {
-    b.map_or((p, p), |(lo, hi)| (lo.min(p), hi.max(p)))
 }
 
 #[cfg(test)]
