@@ -16,8 +16,9 @@
 //!   original vertices (obvhs's Möller–Trumbore test is not watertight);
 //! - a ray spawned at a hit skips the triangle it leaves and the leaf-mates wholly behind it
 //!   (`leaving.rs`): those tests could only miss;
-//! - triangles that move within the shutter have a tree of their own (`motion.rs`), walked
-//!   after the static one at the ray's time; a scene without motion has none;
+//! - triangles that move within the shutter have trees of their own (`motion.rs`), one per
+//!   segment between motion steps, the one at the ray's time walked after the static one; a
+//!   scene without motion has none;
 //! - instances (`instances.rs`) have a tree of their own over the copies, each copy walked in
 //!   its mesh's space down that mesh's one tree; a scene without instances has none.
 
@@ -35,7 +36,7 @@ use glam::{Affine3A, Vec3};
 use instances::InstanceTree;
 pub use leaving::Leaving;
 use leaving::SlotSides;
-use motion::{MotionTree, Moving};
+use motion::{MotionTrees, Moving};
 use node::WideNode;
 use obvhs::BvhBuildParams;
 use obvhs::aabb::Aabb;
@@ -70,9 +71,9 @@ pub struct Bvh {
     slot_of: Vec<u32>,
     /// Per static slot: its plane and the leaf-mates on each side (what rays leaving it skip).
     sides: Vec<SlotSides>,
-    /// The triangles that move within the shutter, in slots after the static ones; `None`
-    /// when nothing moves.
-    motion: Option<Box<MotionTree>>,
+    /// The triangles that move within the shutter, in slots after the static ones (a tree per
+    /// segment between motion steps, each numbering all of them); `None` when nothing moves.
+    motion: Option<Box<MotionTrees>>,
     /// The instances, in slots after the moving triangles; `None` when there are none.
     instances: Option<Box<InstanceTree>>,
 }
@@ -174,17 +175,19 @@ impl Bvh {
         }
         let mut bvh = Self::build_static(mesh, still);
         if let Some((motion, _)) = moving.filter(|_| !moved.is_empty()) {
-            let tree = MotionTree::build(mesh, motion, &moved);
+            let tree = MotionTrees::build(mesh, motion, &moved);
             let first = bvh.triangles.len() as u32;
             let needed = moved.iter().max().map_or(0, |&m| m as usize + 1);
             bvh.slot_of.resize(bvh.slot_of.len().max(needed), 0);
-            for (slot, &t) in tree.triangle_ids.iter().enumerate() {
+            // A moving triangle's slot is the first segment's (the opening's).
+            for (slot, &t) in tree.trees[0].triangle_ids.iter().enumerate() {
                 bvh.slot_of[t as usize] = first + slot as u32;
             }
             bvh.motion = Some(Box::new(tree));
         }
         if let Some(instances) = instances.filter(|s| !s.instances.is_empty()) {
-            let first = bvh.len() as u32;
+            let first = bvh.triangles.len() + bvh.motion.as_ref().map_or(0, |m| m.count * m.trees.len());
+            let first = first as u32;
             bvh.instances = Some(Box::new(InstanceTree::build(instances, first)));
         }
         bvh
@@ -248,27 +251,23 @@ impl Bvh {
         }
     }
 
-    /// Number of triangles (every copy's: the slots).
+    /// Number of triangles (every copy's; a moving one once, though each segment has a slot for it).
     pub fn len(&self) -> usize {
         self.triangles.len()
-            + self.motion.as_ref().map_or(0, |m| m.triangle_ids.len())
+            + self.motion.as_ref().map_or(0, |m| m.count)
             + self.instances.as_ref().map_or(0, |i| i.slots())
     }
 
     /// Number of triangles the BVH stores: an instanced mesh's once, whatever its copies.
     pub fn stored_triangles(&self) -> usize {
         self.triangles.len()
-            + self.motion.as_ref().map_or(0, |m| m.triangle_ids.len())
+            + self.motion.as_ref().map_or(0, |m| m.count)
             + self.instances.as_ref().map_or(0, |i| i.stored_triangles())
     }
 
     /// Bytes the trees, their triangles and the slot tables take.
     pub fn bytes(&self) -> usize {
-        let motion = self.motion.as_ref().map_or(0, |m| {
-            std::mem::size_of_val(&m.nodes[..])
-                + std::mem::size_of_val(&m.corners[..])
-                + std::mem::size_of_val(&m.triangle_ids[..])
-        });
+        let motion = self.motion.as_ref().map_or(0, |m| m.bytes());
         std::mem::size_of_val(&self.nodes[..])
             + std::mem::size_of_val(&self.triangles[..])
             + std::mem::size_of_val(&self.triangle_ids[..])
@@ -309,7 +308,7 @@ impl Bvh {
         match self.triangles.get(slot as usize) {
             Some(tri) => *tri,
             None => match self.moving(slot) {
-                Some((m, s)) => m.corners_at(s, m.at(time)),
+                Some((m, k, s)) => m.corners_at(k, s, time),
                 None => {
                     self.instances.as_ref().and_then(|i| i.triangle_at(slot, time)).unwrap_or([[0.0; 3]; 3])
                 }
@@ -343,11 +342,13 @@ impl Bvh {
         })
     }
 
-    /// The motion tree and its own slot for global `slot`, if that is a moving triangle's.
+    /// The motion trees, the segment and the slot in its tree for global `slot`, if that is
+    /// a moving triangle's.
     #[inline(always)]
-    fn moving(&self, slot: u32) -> Option<(&MotionTree, usize)> {
+    fn moving(&self, slot: u32) -> Option<(&MotionTrees, usize, usize)> {
         let s = (slot as usize).checked_sub(self.triangles.len())?;
-        self.motion.as_deref().filter(|m| s < m.triangle_ids.len()).map(|m| (m, s))
+        let m = self.motion.as_deref()?;
+        m.slot(s).map(|(k, s)| (m, k, s))
     }
 
     /// The closest hit along `ray` in (0, t_max), if any.
@@ -485,12 +486,14 @@ impl Bvh {
         Tree { nodes: &self.nodes, tris: Fixed(&self.triangles), first: 0, ids: &self.triangle_ids }
     }
 
-    /// The motion tree at ray time `time`, for a walk, if there is one.
+    /// The motion tree of the segment ray time `time` falls in, for a walk, if there is one.
     #[inline(always)]
     fn moving_at(&self, time: f32) -> Option<Tree<'_, Moving<'_>>> {
         let m = self.motion.as_deref()?;
-        let tris = Moving { tree: m, at: m.at(time) };
-        Some(Tree { nodes: &m.nodes, tris, first: self.triangles.len() as u32, ids: &m.triangle_ids })
+        let at = m.at(time);
+        let tree = &m.trees[at.step];
+        let first = (self.triangles.len() + at.step * m.count) as u32;
+        Some(Tree { nodes: &tree.nodes, tris: Moving { tree, f: at.f }, first, ids: &tree.triangle_ids })
     }
 }
 

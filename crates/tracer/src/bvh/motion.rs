@@ -1,33 +1,46 @@
 //! Triangles that move within the shutter (motion triangles, as Cycles': each corner stored
 //! at every motion step and interpolated linearly between the two steps around the ray's time).
 //!
-//! They get a tree of their own, beside the static one, so that static geometry is traced as
+//! They get trees of their own, beside the static one, so that static geometry is traced as
 //! without a shutter: a scene with nothing moving has no motion tree, and its queries run the
-//! static walk alone. The tree is built over each triangle's box over the whole shutter (the
-//! union of its boxes at the steps: a corner interpolated between two steps stays in their
-//! box), so one tree answers every time; the walk interpolates the triangles it tests to the
-//! ray's time. Per-step trees would each need a second walk per query, or a tree per pair of
-//! steps; a tree over the shutter's boxes costs only the looser boxes of what moves fast.
+//! static walk alone. There is one tree per pair of consecutive steps (a segment of the
+//! shutter), built over each triangle's box over that segment (the union of its boxes at the
+//! segment's two steps: a corner interpolated between them stays in their box); a ray walks
+//! the one tree of the segment its time falls in, which interpolates the triangles it tests to
+//! the ray's time. One tree over the whole shutter's boxes answered every time too, but its
+//! boxes held a fast mover's whole path, and rays through it tested far more triangles:
+//! with three steps, a segment's boxes hold half the path (docs/performance.md, ledger:
+//! "a motion tree per segment"). Per-step trees would need two walks per query.
 
 use super::Triangles;
 use crate::scene::{Mesh, SceneMotion};
 use crate::triangle::{TriangleHit, WatertightRay};
 use glam::Vec3;
 
-/// The moving triangles: their corners at every step and the tree over their shutter boxes.
-pub(super) struct MotionTree {
-    /// The tree over the triangles' shutter boxes (node 0 the root).
-    pub nodes: Vec<super::node::WideNode>,
-    /// Corners at every step, slot-major: slot s's step k at `s * steps + k`.
-    pub corners: Vec<[[f32; 3]; 3]>,
-    /// Motion slot → triangle index in the mesh.
-    pub triangle_ids: Vec<u32>,
-    /// Steps per triangle (≥ 2).
-    pub steps: usize,
+/// The moving triangles: one [`MotionTree`] per segment between consecutive steps. Motion
+/// slot `k · count + s` is slot s of segment k's tree.
+pub(super) struct MotionTrees {
+    /// Segment k's tree, over steps k and k + 1.
+    pub trees: Vec<MotionTree>,
+    /// How many triangles move (each tree holds all of them).
+    pub count: usize,
+    /// Steps (≥ 2).
+    steps: usize,
     /// Ray time of the first step.
     open: f32,
     /// Steps per unit of ray time after the first: (steps − 1) / (close − open).
     rate: f32,
+}
+
+/// The moving triangles of one segment: their corners at its two steps and the tree over
+/// their boxes.
+pub(super) struct MotionTree {
+    /// The tree over the triangles' segment boxes (node 0 the root).
+    pub nodes: Vec<super::node::WideNode>,
+    /// Corners at the segment's two steps, slot-major: slot s's earlier step at `2s`.
+    pub corners: Vec<[[f32; 3]; 3]>,
+    /// Motion slot → triangle index in the mesh.
+    pub triangle_ids: Vec<u32>,
 }
 
 /// Where a ray's time falls between the steps: the earlier step and the fraction to the next.
@@ -39,34 +52,16 @@ pub(super) struct MotionAt {
     pub f: f32,
 }
 
-impl MotionTree {
-    /// The tree over the triangles `moving` (mesh indices) of `mesh`, their corners taken from
-    /// `motion`'s steps.
+impl MotionTrees {
+    /// The trees over the triangles `moving` (mesh indices) of `mesh`, their corners taken from
+    /// `motion`'s steps; the segments' trees are built in parallel.
     pub fn build(mesh: &Mesh, motion: &SceneMotion, moving: &[u32]) -> Self {
+        use rayon::prelude::*;
         let steps = motion.steps();
-        let step_corners =
-            |t: u32, k: usize| mesh.triangles[t as usize].map(|v| motion.positions[k][v as usize].to_array());
-        let aabbs: Vec<obvhs::aabb::Aabb> = moving
-            .iter()
-            .map(|&t| {
-                let mut lo = Vec3::splat(f32::INFINITY);
-                let mut hi = Vec3::splat(f32::NEG_INFINITY);
-                for k in 0..steps {
-                    for p in step_corners(t, k) {
-                        lo = lo.min(Vec3::from_array(p));
-                        hi = hi.max(Vec3::from_array(p));
-                    }
-                }
-                obvhs::aabb::Aabb::new(lo.into(), hi.into())
-            })
-            .collect();
-        let cwbvh = super::build_in_range(aabbs);
-        let triangle_ids: Vec<u32> = cwbvh.primitive_indices.iter().map(|&i| moving[i as usize]).collect();
-        let corners: Vec<[[f32; 3]; 3]> =
-            triangle_ids.iter().flat_map(|&t| (0..steps).map(move |k| step_corners(t, k))).collect();
-        let nodes = super::widen(&cwbvh, &corners, steps);
+        let trees =
+            (0..steps - 1).into_par_iter().map(|k| MotionTree::build(mesh, motion, moving, k)).collect();
         let span = motion.close - motion.open;
-        Self { nodes, corners, triangle_ids, steps, open: motion.open, rate: (steps - 1) as f32 / span }
+        Self { trees, count: moving.len(), steps, open: motion.open, rate: (steps - 1) as f32 / span }
     }
 
     /// Where `time` falls between the steps; times outside the shutter hold its ends.
@@ -79,33 +74,95 @@ impl MotionTree {
         MotionAt { step, f: if f.is_nan() { 0.0 } else { f } }
     }
 
-    /// Motion slot `slot`'s corners at `at`: (1 − f)·p + f·q, which is p at f = 0 and q at
-    /// f = 1 exactly, each coordinate clamped to the two steps' range, so rounding never takes
-    /// it outside the box the tree holds it in.
+    /// Motion slot `slot`'s segment tree and its slot there, if it is one.
     #[inline(always)]
-    pub fn corners_at(&self, slot: usize, at: MotionAt) -> [[f32; 3]; 3] {
-        let i = slot * self.steps + at.step;
-        let (a, b) = (&self.corners[i], &self.corners[i + 1]);
-        let g = 1.0 - at.f;
+    pub fn slot(&self, slot: usize) -> Option<(usize, usize)> {
+        let k = slot / self.count.max(1);
+        (k < self.trees.len()).then(|| (k, slot - k * self.count))
+    }
+
+    /// Segment `k`'s slot `slot`'s corners at `time`: where the segment's triangle is at a time
+    /// within the segment, its nearer end at a time outside it.
+    #[inline(always)]
+    pub fn corners_at(&self, k: usize, slot: usize, time: f32) -> [[f32; 3]; 3] {
+        let at = self.at(time);
+        let f = if at.step == k {
+            at.f
+        } else if at.step < k {
+            0.0
+        } else {
+            1.0
+        };
+        self.trees[k].corners_at(slot, f)
+    }
+
+    /// Bytes the trees and their corners take.
+    pub fn bytes(&self) -> usize {
+        self.trees
+            .iter()
+            .map(|m| {
+                std::mem::size_of_val(&m.nodes[..])
+                    + std::mem::size_of_val(&m.corners[..])
+                    + std::mem::size_of_val(&m.triangle_ids[..])
+            })
+            .sum()
+    }
+}
+
+impl MotionTree {
+    /// The tree over the triangles `moving` (mesh indices) of `mesh` between `motion`'s steps
+    /// `k` and `k + 1`.
+    fn build(mesh: &Mesh, motion: &SceneMotion, moving: &[u32], k: usize) -> Self {
+        let step_corners =
+            |t: u32, k: usize| mesh.triangles[t as usize].map(|v| motion.positions[k][v as usize].to_array());
+        let aabbs: Vec<obvhs::aabb::Aabb> = moving
+            .iter()
+            .map(|&t| {
+                let mut lo = Vec3::splat(f32::INFINITY);
+                let mut hi = Vec3::splat(f32::NEG_INFINITY);
+                for step in [k, k + 1] {
+                    for p in step_corners(t, step) {
+                        lo = lo.min(Vec3::from_array(p));
+                        hi = hi.max(Vec3::from_array(p));
+                    }
+                }
+                obvhs::aabb::Aabb::new(lo.into(), hi.into())
+            })
+            .collect();
+        let cwbvh = super::build_in_range(aabbs);
+        let triangle_ids: Vec<u32> = cwbvh.primitive_indices.iter().map(|&i| moving[i as usize]).collect();
+        let corners: Vec<[[f32; 3]; 3]> =
+            triangle_ids.iter().flat_map(|&t| [step_corners(t, k), step_corners(t, k + 1)]).collect();
+        let nodes = super::widen(&cwbvh, &corners, 2);
+        Self { nodes, corners, triangle_ids }
+    }
+
+    /// Slot `slot`'s corners a fraction `f` from the earlier step to the later: (1 − f)·p +
+    /// f·q, which is p at f = 0 and q at f = 1 exactly, each coordinate clamped to the two
+    /// steps' range, so rounding never takes it outside the box the tree holds it in.
+    #[inline(always)]
+    pub fn corners_at(&self, slot: usize, f: f32) -> [[f32; 3]; 3] {
+        let (a, b) = (&self.corners[2 * slot], &self.corners[2 * slot + 1]);
+        let g = 1.0 - f;
         std::array::from_fn(|c| {
             std::array::from_fn(|x| {
                 let (p, q) = (a[c][x], b[c][x]);
-                (p * g + q * at.f).clamp(p.min(q), p.max(q))
+                (p * g + q * f).clamp(p.min(q), p.max(q))
             })
         })
     }
 }
 
-/// The moving triangles at one time, as the walk tests them.
+/// The moving triangles of one segment at a fraction `f` through it, as the walk tests them.
 pub(super) struct Moving<'a> {
     pub tree: &'a MotionTree,
-    pub at: MotionAt,
+    pub f: f32,
 }
 
 impl Triangles for Moving<'_> {
     #[inline(always)]
     fn test(&self, ray: &WatertightRay, slot: usize, t_max: f32) -> Option<TriangleHit> {
-        ray.intersect(&self.tree.corners_at(slot, self.at), t_max)
+        ray.intersect(&self.tree.corners_at(slot, self.f), t_max)
     }
 
     fn len(&self) -> usize {
@@ -119,14 +176,7 @@ mod tests {
 
     #[test]
     fn times_map_to_steps_and_fractions() {
-        let tree = MotionTree {
-            nodes: vec![],
-            corners: vec![],
-            triangle_ids: vec![],
-            steps: 3,
-            open: 10.0,
-            rate: 4.0,
-        };
+        let tree = MotionTrees { trees: vec![], count: 0, steps: 3, open: 10.0, rate: 4.0 };
         assert_eq!(tree.at(10.0), MotionAt { step: 0, f: 0.0 });
         assert_eq!(tree.at(10.125), MotionAt { step: 0, f: 0.5 });
         assert_eq!(tree.at(10.25), MotionAt { step: 1, f: 0.0 });
@@ -140,17 +190,9 @@ mod tests {
     fn interpolated_corners_stay_between_the_steps() {
         let a = [[1e8f32, -1.0, 0.3], [0.0, 0.0, 0.0], [1.0, 2.0, 3.0]];
         let b = [[-1.0f32, 1e8, 0.1], [0.0, 1.0, 0.0], [1.0, 2.0, 3.0]];
-        let tree = MotionTree {
-            nodes: vec![],
-            corners: vec![a, b],
-            triangle_ids: vec![0],
-            steps: 2,
-            open: 0.0,
-            rate: 1.0,
-        };
+        let tree = MotionTree { nodes: vec![], corners: vec![a, b], triangle_ids: vec![0] };
         for k in 0..=64 {
-            let at = tree.at(k as f32 / 64.0);
-            let c = tree.corners_at(0, at);
+            let c = tree.corners_at(0, k as f32 / 64.0);
             for v in 0..3 {
                 for x in 0..3 {
                     let (lo, hi) = (a[v][x].min(b[v][x]), a[v][x].max(b[v][x]));
@@ -158,7 +200,7 @@ mod tests {
                 }
             }
         }
-        assert_eq!(tree.corners_at(0, tree.at(0.0)), a, "the first step exactly");
-        assert_eq!(tree.corners_at(0, tree.at(1.0)), b, "the last step exactly");
+        assert_eq!(tree.corners_at(0, 0.0), a, "the first step exactly");
+        assert_eq!(tree.corners_at(0, 1.0), b, "the last step exactly");
     }
 }
