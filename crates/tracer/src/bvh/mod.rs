@@ -486,13 +486,14 @@ impl Bvh {
         Tree { nodes: &self.nodes, tris: Fixed(&self.triangles), first: 0, ids: &self.triangle_ids }
     }
 
-    /// The motion tree of the segment ray time `time` falls in, for a walk, if there is one.
+    /// The motion tree of the segment slice ray time `time` falls in, for a walk, if any.
     #[inline(always)]
     fn moving_at(&self, time: f32) -> Option<Tree<'_, Moving<'_>>> {
         let m = self.motion.as_deref()?;
         let at = m.at(time);
-        let tree = &m.trees[at.step];
-        let first = (self.triangles.len() + at.step * m.count) as u32;
+        let i = m.tree_at(at);
+        let tree = &m.trees[i];
+        let first = (self.triangles.len() + i * m.count) as u32;
         Some(Tree { nodes: &tree.nodes, tris: Moving { tree, f: at.f }, first, ids: &tree.triangle_ids })
     }
 }

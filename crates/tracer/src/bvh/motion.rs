@@ -17,10 +17,15 @@ use crate::scene::{Mesh, SceneMotion};
 use crate::triangle::{TriangleHit, WatertightRay};
 use glam::Vec3;
 
-/// The moving triangles: one [`MotionTree`] per segment between consecutive steps. Motion
-/// slot `k · count + s` is slot s of segment k's tree.
+/// Trees per segment: slice j of [`SLICES`] holds the triangles' boxes over the fractions
+/// j / SLICES … (j + 1) / SLICES of the segment (measured: docs/performance.md §3.3).
+const SLICES: usize = 2;
+
+/// The moving triangles: [`SLICES`] [`MotionTree`]s per segment between consecutive steps.
+/// Motion slot `i · count + s` is slot s of tree i, which is slice i mod SLICES of segment
+/// i / SLICES.
 pub(super) struct MotionTrees {
-    /// Segment k's tree, over steps k and k + 1.
+    /// Tree i, over slice i mod [`SLICES`] of the segment between steps i / SLICES and the next.
     pub trees: Vec<MotionTree>,
     /// How many triangles move (each tree holds all of them).
     pub count: usize,
@@ -58,8 +63,10 @@ impl MotionTrees {
     pub fn build(mesh: &Mesh, motion: &SceneMotion, moving: &[u32]) -> Self {
         use rayon::prelude::*;
         let steps = motion.steps();
-        let trees =
-            (0..steps - 1).into_par_iter().map(|k| MotionTree::build(mesh, motion, moving, k)).collect();
+        let trees = (0..(steps - 1) * SLICES)
+            .into_par_iter()
+            .map(|i| MotionTree::build(mesh, motion, moving, i / SLICES, i % SLICES))
+            .collect();
         let span = motion.close - motion.open;
         Self { trees, count: moving.len(), steps, open: motion.open, rate: (steps - 1) as f32 / span }
     }
@@ -74,18 +81,25 @@ impl MotionTrees {
         MotionAt { step, f: if f.is_nan() { 0.0 } else { f } }
     }
 
-    /// Motion slot `slot`'s segment tree and its slot there, if it is one.
+    /// The tree that answers a ray at `at`: its slice of its segment.
+    #[inline(always)]
+    pub fn tree_at(&self, at: MotionAt) -> usize {
+        // f · SLICES is exact for a power of two; a fraction on a boundary is in both slices.
+        at.step * SLICES + ((at.f * SLICES as f32) as usize).min(SLICES - 1)
+    }
+
+    /// Motion slot `slot`'s tree and its slot there, if it is one.
     #[inline(always)]
     pub fn slot(&self, slot: usize) -> Option<(usize, usize)> {
         let k = slot / self.count.max(1);
         (k < self.trees.len()).then(|| (k, slot - k * self.count))
     }
 
-    /// Segment `k`'s slot `slot`'s corners at `time`: where the segment's triangle is at a time
+    /// Tree `i`'s slot `slot`'s corners at `time`: where its segment's triangle is at a time
     /// within the segment, its nearer end at a time outside it.
     #[inline(always)]
-    pub fn corners_at(&self, k: usize, slot: usize, time: f32) -> [[f32; 3]; 3] {
-        let at = self.at(time);
+    pub fn corners_at(&self, i: usize, slot: usize, time: f32) -> [[f32; 3]; 3] {
+        let (at, k) = (self.at(time), i / SLICES);
         let f = if at.step == k {
             at.f
         } else if at.step < k {
@@ -93,7 +107,7 @@ impl MotionTrees {
         } else {
             1.0
         };
-        self.trees[k].corners_at(slot, f)
+        self.trees[i].corners_at(slot, f)
     }
 
     /// Bytes the trees and their corners take.
@@ -111,29 +125,48 @@ impl MotionTrees {
 
 impl MotionTree {
     /// The tree over the triangles `moving` (mesh indices) of `mesh` between `motion`'s steps
-    /// `k` and `k + 1`.
-    fn build(mesh: &Mesh, motion: &SceneMotion, moving: &[u32], k: usize) -> Self {
+    /// `k` and `k + 1`, over slice `j` of that segment: each triangle's box holds its corners
+    /// interpolated at the slice's two ends (a linear path between them stays in it), widened
+    /// by 2^−20 of the coordinates' magnitude, far more than the few ulps by which the rounded
+    /// interpolation of [`MotionTree::corners_at`] within the slice can stray from them.
+    fn build(mesh: &Mesh, motion: &SceneMotion, moving: &[u32], k: usize, j: usize) -> Self {
         let step_corners =
             |t: u32, k: usize| mesh.triangles[t as usize].map(|v| motion.positions[k][v as usize].to_array());
-        let aabbs: Vec<obvhs::aabb::Aabb> = moving
-            .iter()
-            .map(|&t| {
-                let mut lo = Vec3::splat(f32::INFINITY);
-                let mut hi = Vec3::splat(f32::NEG_INFINITY);
-                for step in [k, k + 1] {
-                    for p in step_corners(t, step) {
-                        lo = lo.min(Vec3::from_array(p));
-                        hi = hi.max(Vec3::from_array(p));
-                    }
-                }
-                obvhs::aabb::Aabb::new(lo.into(), hi.into())
-            })
-            .collect();
+        let (f0, f1) = (j as f32 / SLICES as f32, (j + 1) as f32 / SLICES as f32);
+        let slice_box = |t: u32| {
+            let ends = Self {
+                nodes: vec![],
+                corners: vec![step_corners(t, k), step_corners(t, k + 1)],
+                triangle_ids: vec![],
+            };
+            let (a, b) = (ends.corners_at(0, f0), ends.corners_at(0, f1));
+            let mut lo = Vec3::splat(f32::INFINITY);
+            let mut hi = Vec3::splat(f32::NEG_INFINITY);
+            for c in 0..3 {
+                let (p, q) = (Vec3::from_array(ends.corners[0][c]), Vec3::from_array(ends.corners[1][c]));
+                let margin = p.abs().max(q.abs()) * (1.0 / (1 << 20) as f32) + Vec3::splat(f32::MIN_POSITIVE);
+                let (u, v) = (Vec3::from_array(a[c]), Vec3::from_array(b[c]));
+                lo = lo.min(u.min(v) - margin);
+                hi = hi.max(u.max(v) + margin);
+            }
+            (lo, hi)
+        };
+        let boxes: Vec<(Vec3, Vec3)> = moving.iter().map(|&t| slice_box(t)).collect();
+        let aabbs = boxes.iter().map(|&(lo, hi)| obvhs::aabb::Aabb::new(lo.into(), hi.into())).collect();
         let cwbvh = super::build_in_range(aabbs);
-        let triangle_ids: Vec<u32> = cwbvh.primitive_indices.iter().map(|&i| moving[i as usize]).collect();
+        let order = &cwbvh.primitive_indices;
+        let triangle_ids: Vec<u32> = order.iter().map(|&i| moving[i as usize]).collect();
         let corners: Vec<[[f32; 3]; 3]> =
             triangle_ids.iter().flat_map(|&t| [step_corners(t, k), step_corners(t, k + 1)]).collect();
-        let nodes = super::widen(&cwbvh, &corners, 2);
+        // The leaves' boxes are the slice boxes: two corner sets per slot, one at each extreme.
+        let extremes: Vec<[[f32; 3]; 3]> = order
+            .iter()
+            .flat_map(|&i| {
+                let (lo, hi) = boxes[i as usize];
+                [[lo.to_array(); 3], [hi.to_array(); 3]]
+            })
+            .collect();
+        let nodes = super::widen(&cwbvh, &extremes, 2);
         Self { nodes, corners, triangle_ids }
     }
 
