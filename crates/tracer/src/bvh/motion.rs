@@ -3,14 +3,14 @@
 //!
 //! They get trees of their own, beside the static one, so that static geometry is traced as
 //! without a shutter: a scene with nothing moving has no motion tree, and its queries run the
-//! static walk alone. There is one tree per pair of consecutive steps (a segment of the
-//! shutter), built over each triangle's box over that segment (the union of its boxes at the
-//! segment's two steps: a corner interpolated between them stays in their box); a ray walks
-//! the one tree of the segment its time falls in, which interpolates the triangles it tests to
-//! the ray's time. One tree over the whole shutter's boxes answered every time too, but its
-//! boxes held a fast mover's whole path, and rays through it tested far more triangles:
-//! with three steps, a segment's boxes hold half the path (docs/performance.md, ledger:
-//! "a motion tree per segment"). Per-step trees would need two walks per query.
+//! static walk alone. There are [`SLICES`] trees per pair of consecutive steps (a segment of
+//! the shutter), each over every triangle's box over its slice of the segment in time (the
+//! corners interpolated at the slice's ends: a corner interpolated between them stays in their
+//! box); a ray walks the one tree of the slice its time falls in, which interpolates the
+//! triangles it tests to the ray's time. One tree over the whole shutter's boxes answered every
+//! time too, but its boxes held a fast mover's whole path, and rays through it tested far more
+//! triangles (docs/performance.md §3.3, "a motion tree per segment", "time slices").
+//! Per-step trees would need two walks per query.
 
 use super::Triangles;
 use crate::scene::{Mesh, SceneMotion};
