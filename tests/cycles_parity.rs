@@ -229,6 +229,15 @@ fn rigid_blur() {
     assert_differs("rigid_blur", "reference-f6.exr", Frame { frame: 6, shutter: 0.0 });
 }
 
+/// Rigid rotation blur: a bar spinning in the image plane, 20° within a shutter of 0.5 frames
+/// from frame 6 (its rotation slerped between the motion steps, as Cycles interpolates its
+/// decomposed transforms); the same frame without the shutter fails.
+#[test]
+fn rigid_spin() {
+    check_shot("rigid_spin", "reference-f6.exr", Frame { frame: 6, shutter: 0.5 });
+    assert_differs("rigid_spin", "reference-f6.exr", Frame { frame: 6, shutter: 0.0 });
+}
+
 /// Per pixel and channel, the larger of the variance and its mean over the 3 × 3 neighbourhood
 /// (clamped at the borders).
 fn pooled(variance: &RgbImage) -> RgbImage {

@@ -516,6 +516,27 @@ def scene_rigid_blur(folder):
     point("light", (1.5, -2.5, 3.0), 300.0)
 
 
+def scene_rigid_spin(folder):
+    """Rigid rotation blur: a bar spinning about the camera's line of sight (Blender's Y, 40° a
+    frame, linear keys) in front of the wall, so that it turns 20° in the image plane while the
+    shutter is open (frame 6, START, 0.5 frames: `ANIMATED`). Its ends sweep arcs, which the
+    renderers draw by interpolating its rotation (mcctrace by slerp, Cycles its decomposed
+    transforms) between the motion steps."""
+    room(grey(), grey(0.6))
+    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.0, 0.0, 1.0))
+    bar = bpy.context.active_object
+    bar.name = "bar"
+    bar.scale = (1.6, 0.3, 0.3)
+    bpy.ops.object.transform_apply(scale=True)
+    add(bar, material("bar", base=(0.2, 0.3, 0.8), roughness=0.5))
+    bar.rotation_mode = "XYZ"
+    for frame, degrees in ((0, 0.0), (12, 480.0)):
+        bar.rotation_euler = (0.0, math.radians(degrees), 0.0)
+        bar.keyframe_insert("rotation_euler", frame=frame)
+    linear_keys()
+    point("light", (1.5, -2.5, 3.0), 300.0)
+
+
 # The animated scenes' references: scene → [(suffix, frame, shutter in frames)], written to
 # reference-<suffix>.exr. A shutter s is Blender's motion blur at position START with shutter s,
 # which is mcctrace's `--shutter 0..s` (README, "Animation").
@@ -524,6 +545,7 @@ ANIMATED = {
     "shape_keys": [("f7", 7, 0.0)],
     "deforming_blur": [("f2", 2, 0.5)],
     "rigid_blur": [("f6", 6, 0.5)],
+    "rigid_spin": [("f6", 6, 0.5)],
 }
 
 

@@ -11,8 +11,8 @@
 //! (docs/performance.md, ledger: "skip leaf-mates behind"). Some walls fold towards the room by
 //! a rounding, and their mates are still tested.
 //!
-//! Which side each leaf-mate lies on is decided when the tree is built, by Shewchuk's exact
-//! orientation predicate (the `robust` crate). Which side a ray goes is decided per ray from
+//! Which side each leaf-mate lies on is decided when the tree is built or refitted, by
+//! Shewchuk's exact orientation predicate (`orient.rs`). Which side a ray goes is decided per ray from
 //! the triangle's normal, only when the answer is certain: rays within [`TANGENT`] of the
 //! plane (in cosine) skip the triangle they leave alone. Leaf-mates are the only candidates,
 //! so the test in the walk is a subtraction and a bit test.
@@ -107,7 +107,9 @@ pub(super) fn slot_sides(leaves: &[(u32, u32)], triangles: &[[[f32; 3]; 3]]) -> 
     leaf_of.par_iter().enumerate().map(|(s, &leaf)| side_of(s as u32, leaf, triangles)).collect()
 }
 
-/// Slot `s`'s sides, its leaf being slots `first..end`.
+/// Slot `s`'s sides, its leaf being slots `first..end`. Plain loops and comparisons: closures
+/// and array maps were not inlined in the workspace's incremental release builds, and a refit
+/// runs this for every slot every frame.
 fn side_of(s: u32, leaf: Option<(u32, u32)>, triangles: &[[[f32; 3]; 3]]) -> SlotSides {
     let Some((first, end)) = leaf else {
         return SlotSides { normal: [0.0; 3], leaf_first: s, behind: 1, in_front: 1 };
@@ -118,45 +120,54 @@ fn side_of(s: u32, leaf: Option<(u32, u32)>, triangles: &[[[f32; 3]; 3]]) -> Slo
     // A thin triangle's normal cannot tell sides: it skips only itself.
     let Some(normal) = normal_of(tri) else { return side };
     side.normal = normal;
-    for m in (first..end).filter(|&m| m != s) {
-        // orient3d > 0: below the plane, seen so that the corners run counter-clockwise
-        // from above; that is, behind the front face. A shared corner lies on the plane
-        // exactly, and saying so directly spares the predicate its slowest, exact path.
-        let orient = triangles[m as usize].map(|v| {
-            if tri.contains(&v) {
-                0.0
-            } else {
-                robust::orient3d(coord(tri[0]), coord(tri[1]), coord(tri[2]), coord(v))
+    let same = |p: &[f32; 3], q: &[f32; 3]| p[0] == q[0] && p[1] == q[1] && p[2] == q[2];
+    for m in first..end {
+        if m == s {
+            continue;
+        }
+        let (mut behind, mut in_front) = (true, true);
+        for v in &triangles[m as usize] {
+            // orient3d > 0: below the plane, seen so that the corners run counter-clockwise
+            // from above; that is, behind the front face. A shared corner lies on the plane
+            // exactly, and saying so directly spares the predicate its slowest, exact path.
+            if same(v, &tri[0]) || same(v, &tri[1]) || same(v, &tri[2]) {
+                continue;
             }
-        });
-        if orient.iter().all(|&o| o >= 0.0) {
+            let o = super::orient::orient3d(tri[0], tri[1], tri[2], *v);
+            behind &= o >= 0.0;
+            in_front &= o <= 0.0;
+        }
+        if behind {
             side.behind |= 1 << (m - first);
         }
-        if orient.iter().all(|&o| o <= 0.0) {
+        if in_front {
             side.in_front |= 1 << (m - first);
         }
     }
     side
 }
 
-fn coord(p: [f32; 3]) -> robust::Coord3D<f32> {
-    robust::Coord3D { x: p[0], y: p[1], z: p[2] }
-}
-
 /// The unit front normal (f64 arithmetic, rounded once), if the triangle is thick enough
 /// ([`THIN`]) to tell sides by it.
 fn normal_of(tri: &[[f32; 3]; 3]) -> Option<[f32; 3]> {
-    let [a, b, c] = tri.map(|v| DVec3::from_array(v.map(f64::from)));
-    let (e1, e2) = (b - a, c - a);
+    let v = |p: [f32; 3]| DVec3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2]));
+    let a = v(tri[0]);
+    let (e1, e2) = (v(tri[1]) - a, v(tri[2]) - a);
     let n = e1.cross(e2);
     let len = n.length();
-    (len.is_finite() && len > 0.0 && len >= THIN * e1.length() * e2.length())
-        .then(|| (n / len).as_vec3().to_array())
+    (len.is_finite() && len > 0.0 && len >= THIN * e1.length() * e2.length()).then(|| {
+        let u = n / len;
+        [u.x as f32, u.y as f32, u.z as f32]
+    })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn coord(p: [f32; 3]) -> robust::Coord3D<f32> {
+        robust::Coord3D { x: p[0], y: p[1], z: p[2] }
+    }
 
     /// The predicate's sign convention as used above: a point on the front side of a
     /// counter-clockwise triangle is "in front", one behind is "behind", one on it both.

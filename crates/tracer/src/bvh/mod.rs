@@ -16,8 +16,9 @@
 //!   original vertices (obvhs's Möller–Trumbore test is not watertight);
 //! - a ray spawned at a hit skips the triangle it leaves and the leaf-mates wholly behind it
 //!   (`leaving.rs`): those tests could only miss;
-//! - triangles that move within the shutter have a tree of their own (`motion.rs`), walked
-//!   after the static one at the ray's time; a scene without motion has none;
+//! - triangles that move within the shutter have trees of their own (`motion.rs`), one per
+//!   segment between motion steps, the one at the ray's time walked after the static one; a
+//!   scene without motion has none;
 //! - instances (`instances.rs`) have a tree of their own over the copies, each copy walked in
 //!   its mesh's space down that mesh's one tree; a scene without instances has none.
 
@@ -25,6 +26,7 @@ mod instances;
 mod leaving;
 mod motion;
 mod node;
+mod orient;
 mod walk;
 
 use crate::ray::Ray;
@@ -34,7 +36,7 @@ use glam::{Affine3A, Vec3};
 use instances::InstanceTree;
 pub use leaving::Leaving;
 use leaving::SlotSides;
-use motion::{MotionTree, Moving};
+use motion::{MotionTrees, Moving};
 use node::WideNode;
 use obvhs::BvhBuildParams;
 use obvhs::aabb::Aabb;
@@ -69,9 +71,9 @@ pub struct Bvh {
     slot_of: Vec<u32>,
     /// Per static slot: its plane and the leaf-mates on each side (what rays leaving it skip).
     sides: Vec<SlotSides>,
-    /// The triangles that move within the shutter, in slots after the static ones; `None`
-    /// when nothing moves.
-    motion: Option<Box<MotionTree>>,
+    /// The triangles that move within the shutter, in slots after the static ones (a tree per
+    /// segment between motion steps, each numbering all of them); `None` when nothing moves.
+    motion: Option<Box<MotionTrees>>,
     /// The instances, in slots after the moving triangles; `None` when there are none.
     instances: Option<Box<InstanceTree>>,
 }
@@ -173,17 +175,19 @@ impl Bvh {
         }
         let mut bvh = Self::build_static(mesh, still);
         if let Some((motion, _)) = moving.filter(|_| !moved.is_empty()) {
-            let tree = MotionTree::build(mesh, motion, &moved);
+            let tree = MotionTrees::build(mesh, motion, &moved);
             let first = bvh.triangles.len() as u32;
             let needed = moved.iter().max().map_or(0, |&m| m as usize + 1);
             bvh.slot_of.resize(bvh.slot_of.len().max(needed), 0);
-            for (slot, &t) in tree.triangle_ids.iter().enumerate() {
+            // A moving triangle's slot is the first segment's (the opening's).
+            for (slot, &t) in tree.trees[0].triangle_ids.iter().enumerate() {
                 bvh.slot_of[t as usize] = first + slot as u32;
             }
             bvh.motion = Some(Box::new(tree));
         }
         if let Some(instances) = instances.filter(|s| !s.instances.is_empty()) {
-            let first = bvh.len() as u32;
+            let first = bvh.triangles.len() + bvh.motion.as_ref().map_or(0, |m| m.count * m.trees.len());
+            let first = first as u32;
             bvh.instances = Some(Box::new(InstanceTree::build(instances, first)));
         }
         bvh
@@ -222,9 +226,11 @@ impl Bvh {
         if self.motion.is_some() || self.instances.is_some() || mesh.triangle_count() != self.slot_of.len() {
             return false;
         }
-        for (tri, &t) in self.triangles.iter_mut().zip(&self.triangle_ids) {
-            *tri = mesh.corners(t as usize).map(|p| p.to_array());
-        }
+        use rayon::prelude::*;
+        self.triangles.par_iter_mut().zip(&self.triangle_ids).for_each(|(tri, &t)| {
+            let [a, b, c] = mesh.corners(t as usize);
+            *tri = [a.to_array(), b.to_array(), c.to_array()];
+        });
         fit_boxes(&mut self.nodes, &self.triangles, 1);
         self.sides = sides_of(&self.nodes, &self.triangles);
         true
@@ -245,27 +251,23 @@ impl Bvh {
         }
     }
 
-    /// Number of triangles (every copy's: the slots).
+    /// Number of triangles (every copy's; a moving one once, though each segment has a slot for it).
     pub fn len(&self) -> usize {
         self.triangles.len()
-            + self.motion.as_ref().map_or(0, |m| m.triangle_ids.len())
+            + self.motion.as_ref().map_or(0, |m| m.count)
             + self.instances.as_ref().map_or(0, |i| i.slots())
     }
 
     /// Number of triangles the BVH stores: an instanced mesh's once, whatever its copies.
     pub fn stored_triangles(&self) -> usize {
         self.triangles.len()
-            + self.motion.as_ref().map_or(0, |m| m.triangle_ids.len())
+            + self.motion.as_ref().map_or(0, |m| m.count)
             + self.instances.as_ref().map_or(0, |i| i.stored_triangles())
     }
 
     /// Bytes the trees, their triangles and the slot tables take.
     pub fn bytes(&self) -> usize {
-        let motion = self.motion.as_ref().map_or(0, |m| {
-            std::mem::size_of_val(&m.nodes[..])
-                + std::mem::size_of_val(&m.corners[..])
-                + std::mem::size_of_val(&m.triangle_ids[..])
-        });
+        let motion = self.motion.as_ref().map_or(0, |m| m.bytes());
         std::mem::size_of_val(&self.nodes[..])
             + std::mem::size_of_val(&self.triangles[..])
             + std::mem::size_of_val(&self.triangle_ids[..])
@@ -306,7 +308,7 @@ impl Bvh {
         match self.triangles.get(slot as usize) {
             Some(tri) => *tri,
             None => match self.moving(slot) {
-                Some((m, s)) => m.corners_at(s, m.at(time)),
+                Some((m, k, s)) => m.corners_at(k, s, time),
                 None => {
                     self.instances.as_ref().and_then(|i| i.triangle_at(slot, time)).unwrap_or([[0.0; 3]; 3])
                 }
@@ -340,11 +342,13 @@ impl Bvh {
         })
     }
 
-    /// The motion tree and its own slot for global `slot`, if that is a moving triangle's.
+    /// The motion trees, the segment and the slot in its tree for global `slot`, if that is
+    /// a moving triangle's.
     #[inline(always)]
-    fn moving(&self, slot: u32) -> Option<(&MotionTree, usize)> {
+    fn moving(&self, slot: u32) -> Option<(&MotionTrees, usize, usize)> {
         let s = (slot as usize).checked_sub(self.triangles.len())?;
-        self.motion.as_deref().filter(|m| s < m.triangle_ids.len()).map(|m| (m, s))
+        let m = self.motion.as_deref()?;
+        m.slot(s).map(|(k, s)| (m, k, s))
     }
 
     /// The closest hit along `ray` in (0, t_max), if any.
@@ -482,12 +486,15 @@ impl Bvh {
         Tree { nodes: &self.nodes, tris: Fixed(&self.triangles), first: 0, ids: &self.triangle_ids }
     }
 
-    /// The motion tree at ray time `time`, for a walk, if there is one.
+    /// The motion tree of the segment slice ray time `time` falls in, for a walk, if any.
     #[inline(always)]
     fn moving_at(&self, time: f32) -> Option<Tree<'_, Moving<'_>>> {
         let m = self.motion.as_deref()?;
-        let tris = Moving { tree: m, at: m.at(time) };
-        Some(Tree { nodes: &m.nodes, tris, first: self.triangles.len() as u32, ids: &m.triangle_ids })
+        let at = m.at(time);
+        let i = m.tree_at(at);
+        let tree = &m.trees[i];
+        let first = (self.triangles.len() + i * m.count) as u32;
+        Some(Tree { nodes: &tree.nodes, tris: Moving { tree, f: at.f }, first, ids: &tree.triangle_ids })
     }
 }
 
@@ -519,37 +526,58 @@ fn widen(cwbvh: &CwBvh, triangles: &[[[f32; 3]; 3]], stride: usize) -> Vec<WideN
 
 /// Sets every child box of `nodes` (whose structure is set) from `triangles` (`stride` corner
 /// sets per slot): what building does once and refitting does per frame.
+///
+/// obvhs numbers every inner node after its parent, so one pass from the last node to the root
+/// sees each child's box before its parent needs it; a tree numbered otherwise is visited in
+/// an order found by a walk from the root. Boxes are SIMD min/max folds over the corners in
+/// slot order, with no per-node allocation (docs/performance.md, ledger: "refit: exact sides
+/// in integers").
 fn fit_boxes(nodes: &mut [WideNode], triangles: &[[[f32; 3]; 3]], stride: usize) {
+    use glam::Vec3A;
     if nodes.is_empty() {
         return;
     }
-    // Parents before children (depth-first from the root), so the reverse order sees every
-    // child's box before its parent needs it.
-    let mut order = Vec::with_capacity(nodes.len());
-    let mut pending = vec![0usize];
-    while let Some(i) = pending.pop() {
-        order.push(i);
-        let n = &nodes[i];
-        pending.extend((0..8).filter(|&c| n.inner >> c & 1 != 0).map(|c| n.index[c] as usize));
-    }
-    let mut bounds = vec![None::<(Vec3, Vec3)>; nodes.len()];
-    for &i in order.iter().rev() {
+    let children_after = nodes
+        .iter()
+        .enumerate()
+        .all(|(i, n)| (0..8).filter(|&c| n.inner >> c & 1 != 0).all(|c| n.index[c] as usize > i));
+    let order: Vec<usize> = if children_after {
+        (0..nodes.len()).rev().collect()
+    } else {
+        // Parents before children (depth-first from the root), reversed.
+        let (mut order, mut pending) = (Vec::with_capacity(nodes.len()), vec![0usize]);
+        while let Some(i) = pending.pop() {
+            order.push(i);
+            let n = &nodes[i];
+            pending.extend((0..8).filter(|&c| n.inner >> c & 1 != 0).map(|c| n.index[c] as usize));
+        }
+        order.reverse();
+        order
+    };
+    let empty = (Vec3A::splat(f32::INFINITY), Vec3A::splat(f32::NEG_INFINITY));
+    let mut bounds = vec![empty; nodes.len()];
+    for i in order {
         let wide = &mut nodes[i];
-        let mut total: Option<(Vec3, Vec3)> = None;
+        let mut total = empty;
         for c in 0..8 {
-            let child_box = if wide.leaves >> c & 1 != 0 {
+            let (lo, hi) = if wide.leaves >> c & 1 != 0 {
                 let (first, count) = (wide.index[c] as usize, wide.count[c] as usize);
-                let corners = triangles[first * stride..(first + count) * stride].iter().flatten();
-                corners.fold(None, |b, &p| Some(grow(b, Vec3::from_array(p))))
+                let (mut lo, mut hi) = empty;
+                for tri in &triangles[first * stride..(first + count) * stride] {
+                    for p in tri {
+                        let p = Vec3A::new(p[0], p[1], p[2]);
+                        (lo, hi) = (lo.min(p), hi.max(p));
+                    }
+                }
+                (lo, hi)
             } else if wide.inner >> c & 1 != 0 {
                 bounds[wide.index[c] as usize]
             } else {
                 continue;
             };
-            if let Some((lo, hi)) = child_box {
-                wide.set_box(c, lo, hi);
-                total = Some(total.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi))));
-            }
+            // A child with no corner keeps the empty box, which no ray enters.
+            wide.set_box(c, lo.into(), hi.into());
+            total = (total.0.min(lo), total.1.max(hi));
         }
         bounds[i] = total;
     }
@@ -562,11 +590,6 @@ fn sides_of(nodes: &[WideNode], triangles: &[[[f32; 3]; 3]]) -> Vec<SlotSides> {
         .flat_map(|n| (0..8).filter(|&c| n.leaves >> c & 1 != 0).map(|c| (n.index[c], n.count[c] as u32)))
         .collect();
     leaving::slot_sides(&leaves, triangles)
-}
-
-/// `b` grown to hold `p`.
-fn grow(b: Option<(Vec3, Vec3)>, p: Vec3) -> (Vec3, Vec3) {
-    b.map_or((p, p), |(lo, hi)| (lo.min(p), hi.max(p)))
 }
 
 #[cfg(test)]
