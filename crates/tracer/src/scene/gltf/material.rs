@@ -19,8 +19,8 @@
 //!   is a thin wall and σa = −ln(colour) / distance, and Blender's importer's, where every
 //!   transmissive surface bounds a refracting solid and the colour and 1 / distance become a
 //!   Volume Absorption node (Cycles: σa = (1 − colour) / distance). Transmission without the
-//!   extension is a solid in both: the specification's thin wall there is not implemented (it
-//!   would change the glass of every file not from Blender, the café's among them).
+//!   extension is a thin wall by the specification (the default thickness is 0) and a solid in
+//!   Blender's reading; a file meant as solid glass says so with a thickness (the café does).
 //! - `KHR_materials_anisotropy` (`anisotropy.rs`): strength, rotation and texture; the strength
 //!   stretches the roughness as Blender's importer and Cycles do, or as the specification says
 //!   ([`AnisotropyMapping`], by the reading).
@@ -74,8 +74,8 @@ fn volume(raw: Option<&Value>) -> Result<Option<Volume>, String> {
 /// `reading`. From its `KHR_materials_volume`: the
 /// specification makes thickness 0 a thin wall and σa = −ln(colour) / distance; Blender's
 /// importer makes every transmissive surface bound a solid and builds a Volume Absorption node,
-/// σa = (1 − colour) / distance in Cycles. Transmission without the extension stays a solid in
-/// both readings (the specification's thin wall there is not implemented: docs/cycles.md).
+/// σa = (1 − colour) / distance in Cycles. Transmission without the extension is a thin wall by
+/// the specification too, a solid in Blender's reading.
 pub(crate) fn apply_reading(m: &mut Material, reading: GltfReading) {
     if let Some(a) = &mut m.anisotropy {
         a.mapping = match reading {
@@ -83,11 +83,15 @@ pub(crate) fn apply_reading(m: &mut Material, reading: GltfReading) {
             GltfReading::Spec => AnisotropyMapping::Spec,
         };
     }
+    // By the specification a transmissive surface without a volume's thickness is a thin wall
+    // (its extension's text: "the material is thin-walled" when thickness is 0, the default);
+    // Blender's importer makes every one a refracting solid.
+    let thin = m.volume.is_none_or(|v| v.thickness == 0.0);
+    m.thin_walled = reading == GltfReading::Spec && m.transmission > 0.0 && thin;
     let Some(v) = m.volume else {
-        (m.thin_walled, m.attenuation) = (false, Vec3::ZERO);
+        m.attenuation = Vec3::ZERO;
         return;
     };
-    m.thin_walled = reading == GltfReading::Spec && v.thickness == 0.0;
     m.attenuation = if v.distance.is_infinite() {
         Vec3::ZERO
     } else {
