@@ -6,10 +6,10 @@
 //! `KHR_materials_clearcoat` and `KHR_materials_sheen` (these two read from the raw JSON: the
 //! gltf crate does not parse them).
 //!
-//! - `KHR_materials_sheen` is Cycles' microfibre sheen in both readings (`bsdf/sheen.rs`), as
-//!   Blender's importer sets it up: Sheen Weight 1, Sheen Tint the colour factor × texture,
-//!   Sheen Roughness the roughness factor × texture (A). The specification's Charlie sheen is a
-//!   different lobe (docs/cycles.md: two readings).
+//! - `KHR_materials_sheen`: colour factor × texture, roughness factor × texture (A). Blender's
+//!   reading renders it with Cycles' microfibre sheen (`bsdf/sheen.rs`), as Blender's importer
+//!   sets it up (Sheen Weight 1, Sheen Tint the colour); the specification's with its Charlie
+//!   sheen (`bsdf/charlie.rs`; [`SheenModel`], by [`apply_reading`]).
 //!
 //! - `KHR_materials_volume`: a transmissive material with `thicknessFactor` > 0 bounds a solid
 //!   whose medium absorbs by Beer–Lambert ([`Material::attenuation`]); the thickness texture is
@@ -31,7 +31,7 @@
 //!   0.04 × `specular_color`, so the colour is scaled by F0(ior) / 0.04 (1 at the default 1.5).
 
 use super::textures::{TextureLoader, UvTransform};
-use crate::material::{AlphaMode, AnisotropyMapping, Material, MaterialTextures, Volume};
+use crate::material::{AlphaMode, AnisotropyMapping, Material, MaterialTextures, SheenModel, Volume};
 use crate::scene::GltfReading;
 use crate::scene::images::ColorSpace;
 use crate::texture::TextureRef;
@@ -70,13 +70,17 @@ fn volume(raw: Option<&Value>) -> Result<Option<Volume>, String> {
     Ok(Some(Volume { thickness: thickness as f32, colour, distance: distance as f32 }))
 }
 
-/// Sets `m`'s anisotropy mapping ([`AnisotropyMapping`]), thin wall and absorption in
-/// `reading`. From its `KHR_materials_volume`: the
+/// Sets `m`'s sheen lobe ([`SheenModel`]), anisotropy mapping ([`AnisotropyMapping`]), thin
+/// wall and absorption in `reading`. From its `KHR_materials_volume`: the
 /// specification makes thickness 0 a thin wall and σa = −ln(colour) / distance; Blender's
 /// importer makes every transmissive surface bound a solid and builds a Volume Absorption node,
 /// σa = (1 − colour) / distance in Cycles. Transmission without the extension is a thin wall by
 /// the specification too, a solid in Blender's reading.
 pub(crate) fn apply_reading(m: &mut Material, reading: GltfReading) {
+    m.sheen_model = match reading {
+        GltfReading::Blender => SheenModel::Cycles,
+        GltfReading::Spec => SheenModel::Charlie,
+    };
     if let Some(a) = &mut m.anisotropy {
         a.mapping = match reading {
             GltfReading::Blender => AnisotropyMapping::Blender,
@@ -310,6 +314,7 @@ pub(super) fn convert(
         coat_roughness,
         sheen,
         sheen_roughness,
+        sheen_model: SheenModel::Cycles,
         volume,
         thin_walled: false,
         attenuation: Vec3::ZERO,
