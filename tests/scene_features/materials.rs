@@ -91,6 +91,28 @@ fn alpha_masked_leaf_casts_a_cut_out_shadow() {
     assert_exact_columns(&r, |i| (if i >= 24 { 0.0 } else { lit }, 1e-4 * lit));
 }
 
+/// Adds the glass tests' backdrop to `g`: an emissive quad at z = −3, 8 wide, whose red rises
+/// with x ([`ramp`]) and whose green is 1, from a 2-texel LINEAR/CLAMP texture written to `dir`.
+fn ramp_backdrop(dir: &TempDir, g: &mut Gltf) {
+    png(dir, "ramp.png", 2, 1, &[[0, 255, 0, 255], [255, 255, 0, 255]]);
+    let texture = g.texture("ramp.png", Some(r#"{"magFilter": 9729, "wrapS": 33071, "wrapT": 33071}"#));
+    let backdrop = g.material(&format!(
+        r#"{{"name": "backdrop", "pbrMetallicRoughness": {{"baseColorFactor": [0, 0, 0, 1]}}, "emissiveFactor": [1, 1, 1],
+            "emissiveTexture": {{"index": {texture}}}}}"#
+    ));
+    g.mesh_node(
+        &[(&quad(Vec3::new(0.0, 0.0, -3.0), Vec3::X * 4.0, Vec3::NEG_Y * 4.0, Vec3::Z), backdrop)],
+        "",
+    );
+}
+
+/// The red [`ramp_backdrop`] emits at x. The texels are sRGB: filtered encoded, then decoded
+/// (docs/design/tracer.md §3.10), so the red is the decoded linear ramp of the encoded value.
+fn ramp(x: f64) -> f64 {
+    let decode = |c: f64| if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) };
+    decode(((x + 2.0) / 4.0).clamp(0.0, 1.0))
+}
+
 /// Refraction through a glass ball (transmission 1, ior 1.5, radius 1, a solid by its
 /// `KHR_materials_volume` thickness in either reading) seen by an orthographic
 /// camera against an emissive backdrop at z = −3 whose red rises with x (R = the sRGB decoding
@@ -103,28 +125,15 @@ fn alpha_masked_leaf_casts_a_cut_out_shadow() {
 #[test]
 fn glass_ball_refracts_as_snell_and_fresnel_say() {
     let dir = TempDir::new("glass");
-    png(&dir, "ramp.png", 2, 1, &[[0, 255, 0, 255], [255, 255, 0, 255]]);
     let mut g = Gltf::new("scene_features");
-    let texture = g.texture("ramp.png", Some(r#"{"magFilter": 9729, "wrapS": 33071, "wrapT": 33071}"#));
+    ramp_backdrop(&dir, &mut g);
     let glass = g.material(
         r#"{"name": "glass", "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1], "metallicFactor": 0, "roughnessFactor": 0},
             "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1}, "KHR_materials_ior": {"ior": 1.5},
                            "KHR_materials_volume": {"thicknessFactor": 2}}}"#,
     );
-    let backdrop = g.material(&format!(
-        r#"{{"name": "backdrop", "pbrMetallicRoughness": {{"baseColorFactor": [0, 0, 0, 1]}}, "emissiveFactor": [1, 1, 1],
-            "emissiveTexture": {{"index": {texture}}}}}"#
-    ));
     g.mesh_node(&[(&sphere(Vec3::ZERO, 1.0, 96, 192), glass)], "");
-    g.mesh_node(
-        &[(&quad(Vec3::new(0.0, 0.0, -3.0), Vec3::X * 4.0, Vec3::NEG_Y * 4.0, Vec3::Z), backdrop)],
-        "",
-    );
     let scene = load(&g.write(&dir, "glass"));
-    // The texels are sRGB: filtered encoded, then decoded (docs/design/tracer.md §3.10), so the
-    // emitted red is the decoded linear ramp of the encoded value.
-    let decode = |c: f64| if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) };
-    let ramp = |x: f64| decode(((x + 2.0) / 4.0).clamp(0.0, 1.0));
     // Refraction of unit d through a surface with unit normal n facing against d, eta = n_i/n_t:
     // the transmitted direction and the unpolarised Fresnel reflectance.
     let refract = |d: DVec3, n: DVec3, eta: f64| {
@@ -245,31 +254,20 @@ fn glass_ball_refracts_as_snell_and_fresnel_say() {
 #[test]
 fn thin_sheet_transmits_unbent_by_the_specification() {
     let dir = TempDir::new("thin-sheet");
-    png(&dir, "ramp.png", 2, 1, &[[0, 255, 0, 255], [255, 255, 0, 255]]);
     let mut g = Gltf::new("scene_features");
-    let texture = g.texture("ramp.png", Some(r#"{"magFilter": 9729, "wrapS": 33071, "wrapT": 33071}"#));
+    ramp_backdrop(&dir, &mut g);
     let glass = g.material(
         r#"{"name": "sheet", "doubleSided": true,
             "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1], "metallicFactor": 0, "roughnessFactor": 0},
             "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1}, "KHR_materials_ior": {"ior": 1.5}}}"#,
     );
-    let backdrop = g.material(&format!(
-        r#"{{"name": "backdrop", "pbrMetallicRoughness": {{"baseColorFactor": [0, 0, 0, 1]}}, "emissiveFactor": [1, 1, 1],
-            "emissiveTexture": {{"index": {texture}}}}}"#
-    ));
     let n = Vec3::new(1.0, 0.0, 1.0).normalize();
     g.mesh_node(&[(&quad(Vec3::ZERO, Vec3::new(1.5, 0.0, -1.5), Vec3::Y * 2.0, n), glass)], "");
-    g.mesh_node(
-        &[(&quad(Vec3::new(0.0, 0.0, -3.0), Vec3::X * 4.0, Vec3::NEG_Y * 4.0, Vec3::Z), backdrop)],
-        "",
-    );
     let spec = load(&g.write(&dir, "sheet"));
     assert_eq!(spec.reading, GltfReading::Spec, "not written by Blender");
     let mut blender = spec.clone();
     blender.set_reading(GltfReading::Blender);
 
-    let decode = |c: f64| if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) };
-    let ramp = |x: f64| decode(((x + 2.0) / 4.0).clamp(0.0, 1.0));
     // The ray along −z meets the sheet (normal n, facing it) at 45°: Snell's direction inside
     // and the unpolarised Fresnel reflectance there.
     let (cos_i, eta) = (FRAC_PI_4.cos() as f64, 1.0 / 1.5);
