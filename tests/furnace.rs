@@ -210,3 +210,72 @@ fn point_light_in_diffuse_sphere_matches_closed_form() {
         }
     }
 }
+
+/// A thin-walled smooth glass of index 1.5 with a sheen of `color` and roughness 0.4.
+fn sheer_glass(color: Vec3) -> Material {
+    Material {
+        transmission: 1.0,
+        roughness: 0.0,
+        ior: 1.5,
+        thin_walled: true,
+        sheen: color,
+        sheen_roughness: 0.4,
+        ..Material::diffuse("sheer glass", Vec3::ONE)
+    }
+}
+
+/// Sheen over glass, as Cycles' Principled BSDF lays it (the sheen on top of the transmission,
+/// which keeps 1 − the sheen's albedo): (a) a closed thin-walled glass ball under a white sheen
+/// in a white sky is a furnace (every interaction passes on all the light it gets: the sheen's
+/// albedo R plus the glass's (1 − R)·(F + 1 − F)), so every pixel is 1; (b) a red sheen on a
+/// thin glass sheet seen at cos θ = 0.5 shows (1, 1 − R, 1 − R), R the sheen's albedo there: the
+/// red the sheen reflects and the white it takes from the glass. Without the sheen over the
+/// glass (only the opaque part carrying it), (b) renders white: G and B 1, R away.
+#[test]
+fn sheen_over_glass_keeps_energy_and_takes_its_share() {
+    let centre = Vec3::new(0.0, 0.0, 0.0);
+    let (positions, indices) = icosphere(3, centre, 1.0, false);
+    let mut ball = single_part_scene("sheer ball", &positions, &indices, sheer_glass(Vec3::ONE));
+    ball.environment.color = Vec3::ONE;
+    let camera = look_at(Vec3::new(0.5, 0.3, 3.0), centre, Vec3::Y, Projection::Perspective { fov_y: 0.8 });
+    let config = IntegratorConfig::DEFAULT.with_max_depth(64).with_rr_depth(u32::MAX);
+    let r = render_plain(&ball, &camera, Job { resolution: UVec2::new(32, 24), spp: 256, seed: 3, config });
+    check_mean("white sheen over thin glass, white sky", &r, Vec3::ONE, 0.0);
+    let report = statistical_test(estimate(&r), &constant_image(32, 24, Vec3::ONE));
+    println!("{report}");
+    assert!(report.passed(), "the sheer ball is not a furnace:\n{report}");
+
+    // (b) The sheet in the xy plane, seen along a direction at cos θ 0.5 by a narrow camera.
+    let corners = [
+        Vec3::new(-4.0, -4.0, 0.0),
+        Vec3::new(4.0, -4.0, 0.0),
+        Vec3::new(4.0, 4.0, 0.0),
+        Vec3::new(-4.0, 4.0, 0.0),
+    ];
+    let red = Vec3::X;
+    let mut sheet = single_part_scene("sheer sheet", &corners, &[0, 1, 2, 0, 2, 3], sheer_glass(red));
+    sheet.environment.color = Vec3::ONE;
+    let wo = Vec3::new(0.75f32.sqrt(), 0.0, 0.5);
+    let camera = look_at(wo * 2.0, Vec3::ZERO, Vec3::Y, Projection::Perspective { fov_y: 0.01 });
+    let r = render_plain(&sheet, &camera, Job { resolution: UVec2::new(16, 16), spp: 512, seed: 4, config });
+    let albedo = tracer::bsdf::sheen::Sheen::new(Vec3::ONE, 0.4, Vec3::Z, Vec3::Z, wo).albedo();
+    let want = Vec3::new(1.0, 1.0 - albedo, 1.0 - albedo);
+    let mean = mean_f64(&r.images.image);
+    let se = standard_error_of_mean(estimate(&r));
+    println!(
+        "red sheen over a thin glass sheet at cos θ 0.5: mean {mean:?} ± {se:?}, expected {want} (R {albedo})"
+    );
+    assert_eq!(r.stats.nonfinite_samples, 0);
+    assert!(
+        albedo > 0.02 && 5.0 * se[1] < 0.25 * albedo as f64,
+        "the sheen's share {albedo} is not well above the noise {se:?}"
+    );
+    for c in 0..3 {
+        assert!(
+            (mean[c] - want[c] as f64).abs() < 5.0 * se[c] + 1e-3,
+            "channel {c}: {} where the sheen over the glass gives {} (R {albedo})",
+            mean[c],
+            want[c]
+        );
+    }
+}

@@ -180,7 +180,8 @@ impl Gltf {
         let mut json = format!(
             r#"{{"asset": {{"version": "2.0", "generator": "{}"}},
 "extensionsUsed": ["KHR_materials_specular", "KHR_materials_emissive_strength", "KHR_lights_punctual",
-                   "KHR_texture_transform", "KHR_materials_transmission", "KHR_materials_ior"],
+                   "KHR_texture_transform", "KHR_materials_transmission", "KHR_materials_ior",
+                   "KHR_materials_volume"],
 "scene": 0, "scenes": [{{"nodes": [{}]}}],
 "buffers": [{{"uri": "{bin_name}", "byteLength": {}}}],
 "bufferViews": {}, "accessors": {}, "meshes": {}, "nodes": {}, "materials": {}"#,

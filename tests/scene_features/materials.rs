@@ -4,6 +4,7 @@ use super::assets::*;
 use super::harness::*;
 use glam::{DVec3, Quat, UVec2, Vec2, Vec3, Vec4};
 use std::f32::consts::{FRAC_PI_2, FRAC_PI_4, PI};
+use tracer::scene::GltfReading;
 
 /// A constant normal map tilting the normal ~30° along the tangent, on two ρ = 0.5 floor
 /// halves lit by a 1 W/m² directional light: the left half's tangent frame comes from its
@@ -90,7 +91,30 @@ fn alpha_masked_leaf_casts_a_cut_out_shadow() {
     assert_exact_columns(&r, |i| (if i >= 24 { 0.0 } else { lit }, 1e-4 * lit));
 }
 
-/// Refraction through a glass ball (transmission 1, ior 1.5, radius 1) seen by an orthographic
+/// Adds the glass tests' backdrop to `g`: an emissive quad at z = −3, 8 wide, whose red rises
+/// with x ([`ramp`]) and whose green is 1, from a 2-texel LINEAR/CLAMP texture written to `dir`.
+fn ramp_backdrop(dir: &TempDir, g: &mut Gltf) {
+    png(dir, "ramp.png", 2, 1, &[[0, 255, 0, 255], [255, 255, 0, 255]]);
+    let texture = g.texture("ramp.png", Some(r#"{"magFilter": 9729, "wrapS": 33071, "wrapT": 33071}"#));
+    let backdrop = g.material(&format!(
+        r#"{{"name": "backdrop", "pbrMetallicRoughness": {{"baseColorFactor": [0, 0, 0, 1]}}, "emissiveFactor": [1, 1, 1],
+            "emissiveTexture": {{"index": {texture}}}}}"#
+    ));
+    g.mesh_node(
+        &[(&quad(Vec3::new(0.0, 0.0, -3.0), Vec3::X * 4.0, Vec3::NEG_Y * 4.0, Vec3::Z), backdrop)],
+        "",
+    );
+}
+
+/// The red [`ramp_backdrop`] emits at x. The texels are sRGB: filtered encoded, then decoded
+/// (docs/design/tracer.md §3.10), so the red is the decoded linear ramp of the encoded value.
+fn ramp(x: f64) -> f64 {
+    let decode = |c: f64| if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) };
+    decode(((x + 2.0) / 4.0).clamp(0.0, 1.0))
+}
+
+/// Refraction through a glass ball (transmission 1, ior 1.5, radius 1, a solid by its
+/// `KHR_materials_volume` thickness in either reading) seen by an orthographic
 /// camera against an emissive backdrop at z = −3 whose red rises with x (R = the sRGB decoding
 /// of clamp((x + 2)/4), G = 1, from a 2-texel LINEAR/CLAMP texture). For each pixel the
 /// closed form refracts the parallel ray into and out of the sphere by Snell's law (vectors
@@ -101,27 +125,15 @@ fn alpha_masked_leaf_casts_a_cut_out_shadow() {
 #[test]
 fn glass_ball_refracts_as_snell_and_fresnel_say() {
     let dir = TempDir::new("glass");
-    png(&dir, "ramp.png", 2, 1, &[[0, 255, 0, 255], [255, 255, 0, 255]]);
     let mut g = Gltf::new("scene_features");
-    let texture = g.texture("ramp.png", Some(r#"{"magFilter": 9729, "wrapS": 33071, "wrapT": 33071}"#));
+    ramp_backdrop(&dir, &mut g);
     let glass = g.material(
         r#"{"name": "glass", "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1], "metallicFactor": 0, "roughnessFactor": 0},
-            "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1}, "KHR_materials_ior": {"ior": 1.5}}}"#,
+            "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1}, "KHR_materials_ior": {"ior": 1.5},
+                           "KHR_materials_volume": {"thicknessFactor": 2}}}"#,
     );
-    let backdrop = g.material(&format!(
-        r#"{{"name": "backdrop", "pbrMetallicRoughness": {{"baseColorFactor": [0, 0, 0, 1]}}, "emissiveFactor": [1, 1, 1],
-            "emissiveTexture": {{"index": {texture}}}}}"#
-    ));
     g.mesh_node(&[(&sphere(Vec3::ZERO, 1.0, 96, 192), glass)], "");
-    g.mesh_node(
-        &[(&quad(Vec3::new(0.0, 0.0, -3.0), Vec3::X * 4.0, Vec3::NEG_Y * 4.0, Vec3::Z), backdrop)],
-        "",
-    );
     let scene = load(&g.write(&dir, "glass"));
-    // The texels are sRGB: filtered encoded, then decoded (docs/design/tracer.md §3.10), so the
-    // emitted red is the decoded linear ramp of the encoded value.
-    let decode = |c: f64| if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) };
-    let ramp = |x: f64| decode(((x + 2.0) / 4.0).clamp(0.0, 1.0));
     // Refraction of unit d through a surface with unit normal n facing against d, eta = n_i/n_t:
     // the transmitted direction and the unpolarised Fresnel reflectance.
     let refract = |d: DVec3, n: DVec3, eta: f64| {
@@ -230,6 +242,76 @@ fn glass_ball_refracts_as_snell_and_fresnel_say() {
     );
     assert!(n > 300.0 && beside > 300, "{n} pixels through the ball, {beside} beside it");
     assert!(mean < 2e-3 && within > 0.95 && max < 0.03, "landings disagree with Snell's law");
+}
+
+/// `KHR_materials_transmission` without `KHR_materials_volume` in its two readings: a smooth
+/// glass sheet (one quad, ior 1.5) turned 45° about y, in front of the ramp backdrop of
+/// `glass_ball_refracts_as_snell_and_fresnel_say`, each probe one orthographic ray along −z.
+/// The specification's thin wall lets the ray through unbent, so R/G is the ramp right behind
+/// it, and G the wall's transmittance 1 − F(45°); Blender's reading (a file it wrote, or
+/// `--gltf-reading blender`) makes the sheet the face of a refracting solid, so the ray bends by
+/// Snell's law and lands ~0.9 to the side. (Before the thin wall, both readings bent it.)
+#[test]
+fn thin_sheet_transmits_unbent_by_the_specification() {
+    let dir = TempDir::new("thin-sheet");
+    let mut g = Gltf::new("scene_features");
+    ramp_backdrop(&dir, &mut g);
+    let glass = g.material(
+        r#"{"name": "sheet", "doubleSided": true,
+            "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1], "metallicFactor": 0, "roughnessFactor": 0},
+            "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1}, "KHR_materials_ior": {"ior": 1.5}}}"#,
+    );
+    let n = Vec3::new(1.0, 0.0, 1.0).normalize();
+    g.mesh_node(&[(&quad(Vec3::ZERO, Vec3::new(1.5, 0.0, -1.5), Vec3::Y * 2.0, n), glass)], "");
+    let spec = load(&g.write(&dir, "sheet"));
+    assert_eq!(spec.reading, GltfReading::Spec, "not written by Blender");
+    let mut blender = spec.clone();
+    blender.set_reading(GltfReading::Blender);
+
+    // The ray along −z meets the sheet (normal n, facing it) at 45°: Snell's direction inside
+    // and the unpolarised Fresnel reflectance there.
+    let (cos_i, eta) = (FRAC_PI_4.cos() as f64, 1.0 / 1.5);
+    let cos_t = (1.0 - eta * eta * (1.0 - cos_i * cos_i)).sqrt();
+    let bent = eta * DVec3::NEG_Z + (eta * cos_i - cos_t) * n.as_dvec3();
+    let rs = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    let rp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    let fresnel = 0.5 * (rs * rs + rp * rp);
+    for x in [-0.6f32, -0.2, 0.2, 0.6] {
+        let probe = Ortho::new(Vec3::new(x, 0.3, 5.0), Vec3::new(x, 0.3, 0.0), Vec3::Y, 1e-5, UVec2::ONE);
+        let thin = render(&spec, &probe.desc, probe.size, 1024, 4);
+        let solid = render(&blender, &probe.desc, probe.size, 1024, 4);
+        let (thin_px, solid_px) = (thin.images.image.get(0, 0), solid.images.image.get(0, 0));
+        // The sheet's point is (x, y, −x); the bent ray lands on the backdrop at z = −3.
+        let landed = x as f64 + bent.x * ((-3.0 + x as f64) / bent.z);
+        println!(
+            "sheet ray at x {x}: spec R/G {} (straight {}), G {} (1 − F {}); Blender R/G {} (Snell {})",
+            thin_px.x / thin_px.y,
+            ramp(x as f64),
+            thin_px.y,
+            1.0 - fresnel,
+            solid_px.x / solid_px.y,
+            ramp(landed)
+        );
+        assert!(
+            (thin_px.x / thin_px.y - ramp(x as f64) as f32).abs() < 1e-3,
+            "the specification's thin wall displaced the ray at x {x}: R/G {} behind it {}",
+            thin_px.x / thin_px.y,
+            ramp(x as f64)
+        );
+        let sigma = (thin.images.variance.get(0, 0).y / 1024.0).sqrt();
+        assert!(
+            (thin_px.y as f64 - (1.0 - fresnel)).abs() < 5.0 * sigma as f64 + 1e-3,
+            "thin wall transmittance at x {x}: {} vs {}",
+            thin_px.y,
+            1.0 - fresnel
+        );
+        assert!(
+            (solid_px.x / solid_px.y - ramp(landed) as f32).abs() < 1e-3 && (landed - x as f64).abs() > 0.5,
+            "Blender's reading did not refract the ray at x {x}: R/G {} where Snell lands it at {landed} ({})",
+            solid_px.x / solid_px.y,
+            ramp(landed)
+        );
+    }
 }
 
 /// A half-metal glass (metallic 0.5, transmission 1, white, smooth) under a sun overhead, seen

@@ -146,6 +146,17 @@ pub struct Anisotropy {
     pub mapping: AnisotropyMapping,
 }
 
+/// The lobe `KHR_materials_sheen` is rendered with: the extension's two readings (docs/cycles.md,
+/// "Two readings of one file").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SheenModel {
+    /// Cycles' microfibre lobe, as Blender's importer renders the extension (`bsdf/sheen.rs`).
+    #[default]
+    Cycles,
+    /// The specification's Charlie sheen (`bsdf/charlie.rs`).
+    Charlie,
+}
+
 /// A surface material: linear-RGB factors of the glTF metallic-roughness model.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
@@ -182,12 +193,13 @@ pub struct Material {
     pub coat: f32,
     /// `KHR_materials_clearcoat` `clearcoatRoughnessFactor`: the coat's perceptual roughness.
     pub coat_roughness: f32,
-    /// `KHR_materials_sheen` `sheenColorFactor`: the colour of Cycles' microfibre sheen over
-    /// everything else (Blender's importer: Sheen Weight 1, Sheen Tint this colour). Black: no
-    /// sheen.
+    /// `KHR_materials_sheen` `sheenColorFactor`: the colour of the sheen over everything else
+    /// (Blender's importer: Cycles' Sheen Weight 1, Sheen Tint this colour). Black: no sheen.
     pub sheen: Vec3,
     /// `KHR_materials_sheen` `sheenRoughnessFactor`: the sheen's roughness.
     pub sheen_roughness: f32,
+    /// The sheen's lobe, by the file's reading.
+    pub sheen_model: SheenModel,
     /// `KHR_materials_volume` as the file gives it; [`Material::thin_walled`] and
     /// [`Material::attenuation`] are derived from it in the file's reading.
     pub volume: Option<Volume>,
@@ -231,6 +243,7 @@ impl Default for Material {
             coat_roughness: 0.0,
             sheen: Vec3::ZERO,
             sheen_roughness: 0.0,
+            sheen_model: SheenModel::Cycles,
             volume: None,
             thin_walled: false,
             attenuation: Vec3::ZERO,

@@ -1,8 +1,9 @@
 //! The BSDF at a surface point: a stack of lobes as Blender's Principled BSDF stacks them
 //! (Cycles' `svm_node_closure_bsdf`), top to bottom:
 //!
-//! 1. the sheen ([`sheen::Sheen`], `KHR_materials_sheen`: Cycles' "First layer: Sheen", over
-//!    the coat too),
+//! 1. the sheen (`KHR_materials_sheen`: Cycles' "First layer: Sheen", over the coat too), the
+//!    lobe of the file's reading ([`sheen_layer::SheenLayer`]: Cycles' [`sheen::Sheen`] or the
+//!    specification's [`charlie::Charlie`]),
 //! 2. the coat ([`coat::Coat`], `KHR_materials_clearcoat`),
 //! 3. the base ([`base::Base`]): metal m beside the dielectric specular layer over the diffuse
 //!    lobe, or over transmission.
@@ -17,12 +18,16 @@
 //! when smooth, [`rough_dielectric::RoughDielectric`] when rough or a thin wall, taken with
 //! probability (1 − metallic)·transmission; what is not glass is this stack with the metalness
 //! [`BsdfParams::opaque_metallic`] gives, so that metal, glass and the dielectric over diffuse
-//! keep the weights of Cycles' Principled BSDF (the coat lies over the opaque part alone).
+//! keep the weights of Cycles' Principled BSDF (the coat lies over the opaque part alone). The
+//! sheen lies over the glass too, as in Cycles: where the glass is chosen, the sheen is taken
+//! alone with probability its albedo a ([`Bsdf::sheen_over_glass`], weighed 1 / a), the glass
+//! otherwise, whose weight (1 − a) / (1 − a) is then 1.
 //!
 //! Sampling picks a layer in proportion to an estimate of its albedo for wo, then a lobe
 //! within it, and reports the whole stack's mixture density.
 
 pub mod base;
+pub mod charlie;
 pub mod coat;
 pub mod compensation;
 pub mod dielectric;
@@ -32,14 +37,15 @@ pub mod lambert;
 pub mod raised_normal;
 pub mod rough_dielectric;
 pub mod sheen;
+pub mod sheen_layer;
 mod sheen_table;
 
-use crate::material::{AnisotropyMapping, Material};
+use crate::material::{AnisotropyMapping, Material, SheenModel};
 use crate::sampling::Frame;
 use base::Base;
 use coat::Coat;
 use glam::{Vec2, Vec3};
-use sheen::Sheen;
+use sheen_layer::SheenLayer;
 
 /// A sampled incident direction with its BSDF value and density.
 #[derive(Clone, Copy, Debug)]
@@ -124,7 +130,7 @@ pub struct Bsdf {
     /// The coat over the base, with the probability of sampling it; `None` without a coat.
     coat: Option<(Coat, f32)>,
     /// The sheen over both, with the probability of sampling it; `None` without a sheen.
-    sheen: Option<(Sheen, f32)>,
+    sheen: Option<(SheenLayer, f32)>,
 }
 
 impl Bsdf {
@@ -141,7 +147,7 @@ impl Bsdf {
             bsdf
         };
         if material.sheen != Vec3::ZERO {
-            bsdf.with_sheen(material.sheen, material.sheen_roughness, ns, wo)
+            bsdf.with_sheen(material.sheen_model, material.sheen, material.sheen_roughness, ns, wo)
         } else {
             bsdf
         }
@@ -161,6 +167,27 @@ impl Bsdf {
     #[inline(always)]
     pub fn lambert(base_color: Vec3, shading: Frame, ng: Vec3, wo: Vec3) -> Self {
         Self { base: Base::lambert(base_color, shading, ng, wo), coat: None, sheen: None }
+    }
+
+    /// At a glass vertex of a material with a `model` sheen of colour `color` and roughness
+    /// `roughness` on unit normal `n`: with `u` (uniform in [0, 1)) below the sheen's albedo a
+    /// for `wo`, the sheen alone (nothing below it), weighed 1 / a, the probability of taking
+    /// it; otherwise `None`, and the glass below it is taken with weight 1 (module docs).
+    /// `shading` and `ng` as for [`Bsdf::with_frame`].
+    #[inline]
+    pub fn sheen_over_glass(
+        model: SheenModel,
+        color: Vec3,
+        roughness: f32,
+        n: Vec3,
+        (shading, ng): (Frame, Vec3),
+        wo: Vec3,
+        u: f32,
+    ) -> Option<Self> {
+        let base = Base::lambert(Vec3::ZERO, shading, ng, wo);
+        let sheen = SheenLayer::new(model, color, roughness, n, base.geometric_normal(), wo);
+        let a = sheen.albedo();
+        (u < a).then(|| Self { base, coat: None, sheen: Some((sheen.scaled(1.0 / a), 1.0)) })
     }
 
     /// This BSDF of a normal-mapped surface whose smoothed normal without the map is `smooth`:
@@ -187,14 +214,14 @@ impl Bsdf {
         self
     }
 
-    /// This stack (base and coat) under a sheen of colour `color` (weight × tint) and
+    /// This stack (base and coat) under a `model` sheen of colour `color` (weight × tint) and
     /// roughness `roughness` on unit normal `n` (either side), seen from `wo` (the stack's):
     /// what lies below keeps 1 − the sheen's albedo for wo, and the sheen is sampled in
     /// proportion to its albedo against an estimate of the rest's. (The top layer: build it
     /// last.)
     #[inline]
-    pub fn with_sheen(mut self, color: Vec3, roughness: f32, n: Vec3, wo: Vec3) -> Self {
-        let sheen = Sheen::new(color, roughness, n, self.base.geometric_normal(), wo);
+    pub fn with_sheen(mut self, model: SheenModel, color: Vec3, roughness: f32, n: Vec3, wo: Vec3) -> Self {
+        let sheen = SheenLayer::new(model, color, roughness, n, self.base.geometric_normal(), wo);
         let below = 1.0 - sheen.albedo();
         self.base.attenuate(below);
         let mut rest = self.base.albedo_estimate();
@@ -262,7 +289,7 @@ impl Bsdf {
     /// The stack's value and density at `wi` from those below the sheen (`f`, `pdf`) and the
     /// sheen's.
     #[inline(never)]
-    fn add_sheen(&self, sheen: &Sheen, p: f32, wi: Vec3, f: Vec3, pdf: f32) -> (Vec3, f32) {
+    fn add_sheen(&self, sheen: &SheenLayer, p: f32, wi: Vec3, f: Vec3, pdf: f32) -> (Vec3, f32) {
         self.add_layer(p, wi, f, pdf, |wi, cos_s| sheen.eval(wi, cos_s))
     }
 

@@ -66,6 +66,12 @@ impl Sheen {
         self.scale.max_element().min(1.0)
     }
 
+    /// This lobe with its value scaled by `k` > 0 (its density unchanged).
+    #[inline]
+    pub fn scaled(self, k: f32) -> Self {
+        Self { scale: self.scale * k, ..self }
+    }
+
     /// D(ω) for local unit ω above the surface.
     #[inline]
     fn d(&self, w: Vec3) -> f32 {

@@ -104,18 +104,39 @@ impl Vertex<'_> {
         } else {
             bsdf
         };
-        // Cycles lays the sheen on the normal the coat and the surface share (with a coat of
-        // weight w: their mix by w).
         if sp.sheen != Vec3::ZERO {
-            let n = if sp.coat > 0.0 {
-                sp.normal.lerp(sp.coat_normal, sp.coat).normalize_or(sp.normal)
-            } else {
-                sp.normal
-            };
-            bsdf.with_sheen(sp.sheen, sp.sheen_roughness, n, self.wo)
+            bsdf.with_sheen(
+                self.material.sheen_model,
+                sp.sheen,
+                sp.sheen_roughness,
+                self.sheen_normal(),
+                self.wo,
+            )
         } else {
             bsdf
         }
+    }
+
+    /// The normal Cycles lays the sheen on: the one the coat and the surface share (with a
+    /// coat of weight w, their mix by w).
+    #[inline]
+    fn sheen_normal(&self) -> Vec3 {
+        let sp = &self.sp;
+        if sp.coat > 0.0 {
+            sp.normal.lerp(sp.coat_normal, sp.coat).normalize_or(sp.normal)
+        } else {
+            sp.normal
+        }
+    }
+
+    /// At a glass vertex of a material with a sheen: the sheen alone when `u` says so (taken
+    /// with probability its albedo, `Bsdf::sheen_over_glass`), else `None` (the glass).
+    #[inline(never)]
+    fn sheen_over_glass(&self, u: f32) -> Option<Bsdf> {
+        let sp = &self.sp;
+        let shading = (Frame::from_z(sp.normal), self.si.n_geom);
+        let model = self.material.sheen_model;
+        Bsdf::sheen_over_glass(model, sp.sheen, sp.sheen_roughness, self.sheen_normal(), shading, self.wo, u)
     }
 }
 
@@ -291,7 +312,15 @@ impl PathState {
         let glass = !LAMBERT
             && glass_weight > 0.0
             && (glass_weight >= 1.0 || decisions.get(Decisions::GLASS) < glass_weight);
-        if glass {
+        // The sheen over the glass (Cycles lays it over the transmission too): taken alone, as
+        // an opaque BSDF, with probability its albedo (the lobe choice's number, which the glass
+        // does not use otherwise).
+        let sheen_alone = if glass && v.sp.sheen != Vec3::ZERO {
+            v.sheen_over_glass(decisions.get(Decisions::LOBE))
+        } else {
+            None
+        };
+        if glass && sheen_alone.is_none() {
             let [u0, u1, l0, l1] = self.sampler.get(sets::vertex(depth));
             let u_fresnel = decisions.get(Decisions::FRESNEL);
             // Index 1 bends nothing, rough or not: the smooth interface is exact there (and
@@ -316,7 +345,10 @@ impl PathState {
                 self.medium = (entering && v.material.has_volume()).then_some(v.material.attenuation);
             }
         } else {
-            let bsdf = v.bsdf::<LAMBERT>();
+            let bsdf = match sheen_alone {
+                Some(sheen) => sheen,
+                None => v.bsdf::<LAMBERT>(),
+            };
             if bsdf.is_black() {
                 return false;
             }

@@ -12,6 +12,8 @@ pub const PANEL_COLOR: [f64; 3] = [1.0, 0.88, 0.72];
 /// Radiance of the daylight "sky" quad outside the window.
 pub const SKY_STRENGTH: f64 = 6.0;
 pub const SKY_COLOR: [f64; 3] = [0.78, 0.88, 1.0];
+/// The drinking glass's wall (m): its `KHR_materials_volume` thickness.
+pub const GLASS_WALL: f64 = 0.0025;
 
 /// Indices of the textures (glTF `textures`, in [`super::textures::all`]'s order).
 pub mod tex {
@@ -191,6 +193,10 @@ impl Mat {
         if d.glass {
             ext.insert("KHR_materials_transmission".into(), json!({ "transmissionFactor": 1.0 }));
             ext.insert("KHR_materials_ior".into(), json!({ "ior": 1.5 }));
+            // The glass is a closed solid (the tumbler's walls are 2.5 mm thick): without a
+            // volume the glTF specification would read its surfaces as thin walls that do not
+            // refract.
+            ext.insert("KHR_materials_volume".into(), json!({ "thicknessFactor": GLASS_WALL }));
         }
         if let Some((color, strength)) = d.emission {
             m["emissiveFactor"] = json!(color);
@@ -210,7 +216,7 @@ impl Mat {
             out.push("KHR_materials_specular");
         }
         if d.glass {
-            out.extend(["KHR_materials_transmission", "KHR_materials_ior"]);
+            out.extend(["KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume"]);
         }
         if d.emission.is_some() {
             out.push("KHR_materials_emissive_strength");

@@ -114,7 +114,7 @@ fn sugar_bowl(base: Vec3) -> Mesh {
 
 /// A tumbler: a closed solid with outer and inner walls and a thick bottom.
 fn glass(base: Vec3) -> Mesh {
-    let (r0, r1, h, wall) = (0.031, 0.036, 0.11, 0.0025);
+    let (r0, r1, h, wall) = (0.031, 0.036, 0.11, super::materials::GLASS_WALL);
     let p = Profile::start(0.0, 0.0)
         .line(r0 - 0.002, 0.0, 2)
         .arc(r0 - 0.002, 0.002, 0.002, -FRAC_PI_2, 0.0, 4)

@@ -6,10 +6,10 @@
 //! `KHR_materials_clearcoat` and `KHR_materials_sheen` (these two read from the raw JSON: the
 //! gltf crate does not parse them).
 //!
-//! - `KHR_materials_sheen` is Cycles' microfibre sheen in both readings (`bsdf/sheen.rs`), as
-//!   Blender's importer sets it up: Sheen Weight 1, Sheen Tint the colour factor × texture,
-//!   Sheen Roughness the roughness factor × texture (A). The specification's Charlie sheen is a
-//!   different lobe (docs/cycles.md: two readings).
+//! - `KHR_materials_sheen`: colour factor × texture, roughness factor × texture (A). Blender's
+//!   reading renders it with Cycles' microfibre sheen (`bsdf/sheen.rs`), as Blender's importer
+//!   sets it up (Sheen Weight 1, Sheen Tint the colour); the specification's with its Charlie
+//!   sheen (`bsdf/charlie.rs`; [`SheenModel`], by [`apply_reading`]).
 //!
 //! - `KHR_materials_volume`: a transmissive material with `thicknessFactor` > 0 bounds a solid
 //!   whose medium absorbs by Beer–Lambert ([`Material::attenuation`]); the thickness texture is
@@ -19,8 +19,8 @@
 //!   is a thin wall and σa = −ln(colour) / distance, and Blender's importer's, where every
 //!   transmissive surface bounds a refracting solid and the colour and 1 / distance become a
 //!   Volume Absorption node (Cycles: σa = (1 − colour) / distance). Transmission without the
-//!   extension is a solid in both: the specification's thin wall there is not implemented (it
-//!   would change the glass of every file not from Blender, the café's among them).
+//!   extension is a thin wall by the specification (the default thickness is 0) and a solid in
+//!   Blender's reading; a file meant as solid glass says so with a thickness (the café does).
 //! - `KHR_materials_anisotropy` (`anisotropy.rs`): strength, rotation and texture; the strength
 //!   stretches the roughness as Blender's importer and Cycles do, or as the specification says
 //!   ([`AnisotropyMapping`], by the reading).
@@ -31,7 +31,7 @@
 //!   0.04 × `specular_color`, so the colour is scaled by F0(ior) / 0.04 (1 at the default 1.5).
 
 use super::textures::{TextureLoader, UvTransform};
-use crate::material::{AlphaMode, AnisotropyMapping, Material, MaterialTextures, Volume};
+use crate::material::{AlphaMode, AnisotropyMapping, Material, MaterialTextures, SheenModel, Volume};
 use crate::scene::GltfReading;
 use crate::scene::images::ColorSpace;
 use crate::texture::TextureRef;
@@ -70,24 +70,32 @@ fn volume(raw: Option<&Value>) -> Result<Option<Volume>, String> {
     Ok(Some(Volume { thickness: thickness as f32, colour, distance: distance as f32 }))
 }
 
-/// Sets `m`'s anisotropy mapping ([`AnisotropyMapping`]), thin wall and absorption in
-/// `reading`. From its `KHR_materials_volume`: the
+/// Sets `m`'s sheen lobe ([`SheenModel`]), anisotropy mapping ([`AnisotropyMapping`]), thin
+/// wall and absorption in `reading`. From its `KHR_materials_volume`: the
 /// specification makes thickness 0 a thin wall and σa = −ln(colour) / distance; Blender's
 /// importer makes every transmissive surface bound a solid and builds a Volume Absorption node,
-/// σa = (1 − colour) / distance in Cycles. Transmission without the extension stays a solid in
-/// both readings (the specification's thin wall there is not implemented: docs/cycles.md).
+/// σa = (1 − colour) / distance in Cycles. Transmission without the extension is a thin wall by
+/// the specification too, a solid in Blender's reading.
 pub(crate) fn apply_reading(m: &mut Material, reading: GltfReading) {
+    m.sheen_model = match reading {
+        GltfReading::Blender => SheenModel::Cycles,
+        GltfReading::Spec => SheenModel::Charlie,
+    };
     if let Some(a) = &mut m.anisotropy {
         a.mapping = match reading {
             GltfReading::Blender => AnisotropyMapping::Blender,
             GltfReading::Spec => AnisotropyMapping::Spec,
         };
     }
+    // By the specification a transmissive surface without a volume's thickness is a thin wall
+    // (its extension's text: "the material is thin-walled" when thickness is 0, the default);
+    // Blender's importer makes every one a refracting solid.
+    let thin = m.volume.is_none_or(|v| v.thickness == 0.0);
+    m.thin_walled = reading == GltfReading::Spec && m.transmission > 0.0 && thin;
     let Some(v) = m.volume else {
-        (m.thin_walled, m.attenuation) = (false, Vec3::ZERO);
+        m.attenuation = Vec3::ZERO;
         return;
     };
-    m.thin_walled = reading == GltfReading::Spec && v.thickness == 0.0;
     m.attenuation = if v.distance.is_infinite() {
         Vec3::ZERO
     } else {
@@ -306,6 +314,7 @@ pub(super) fn convert(
         coat_roughness,
         sheen,
         sheen_roughness,
+        sheen_model: SheenModel::Cycles,
         volume,
         thin_walled: false,
         attenuation: Vec3::ZERO,

@@ -40,7 +40,7 @@ mod precheck;
 use super::images::{self, ColorSpace};
 use super::{MeshPart, Scene};
 use crate::error::{Result, TracerError};
-use crate::material::{AlphaMode, Material};
+use crate::material::{AlphaMode, Material, Volume};
 use crate::texture::{Filter, TextureRef, Wrap};
 use glam::{Vec2, Vec3};
 use std::cell::RefCell;
@@ -590,6 +590,13 @@ fn convert(m: &tobj::Material) -> Converted {
         alpha_mode,
         transmission: if glass { 1.0 } else { 0.0 },
         ior,
+        // OBJ's refracting illum models bound a solid in every reading: a volume of some
+        // thickness, without absorption, keeps `--gltf-reading spec` from making it a thin wall.
+        volume: glass.then_some(Volume {
+            thickness: f32::INFINITY,
+            colour: Vec3::ONE,
+            distance: f32::INFINITY,
+        }),
         ..Material::default()
     };
     Converted { material, maps, ignored, notes }

@@ -1,7 +1,7 @@
 //! Tests of the OBJ/MTL loader (`obj/mod.rs`).
 
-use super::super::Scene;
 use super::super::gltf::tests::{TempDir, cornell_dir};
+use super::super::{GltfReading, Scene};
 use glam::{Vec2, Vec3};
 
 const MTL: &str = "newmtl shiny\nKd 0.5 0.25 0.125\nKs 0.04 0.02 0.0\nNs 98\nmap_Kd wood.png\nmap_Bump b.png\n\
@@ -110,6 +110,10 @@ fn scene_obj_textures_alpha_and_glass() {
     // glass: transmission 1, ior Ni, tinted by Tf (not Kd).
     let glass = m("glass");
     assert_eq!((glass.transmission, glass.ior, glass.base_color), (1.0, 1.33, Vec3::new(0.9, 1.0, 0.9)));
+    // It refracts in either reading of glTF: `--gltf-reading spec` does not make it a thin wall.
+    let mut spec = scene.clone();
+    spec.set_reading(GltfReading::Spec);
+    assert!(spec.materials.iter().all(|m| !m.thin_walled) && !glass.thin_walled);
     // junk: the undecodable map is left out (and with it the cut-out); Ni 0 is no glass ior.
     let junk = m("junk");
     assert_eq!((junk.textures.base_color, junk.alpha_mode, junk.ior), (None, AlphaMode::Opaque, 1.5));

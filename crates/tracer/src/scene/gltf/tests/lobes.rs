@@ -3,7 +3,7 @@
 //! which stretches the base's specular lobes along tangents the loader generates where a mesh has none.
 
 use super::{Builder, expect_error, load_json};
-use crate::material::AnisotropyMapping;
+use crate::material::{AnisotropyMapping, SheenModel};
 use crate::scene::GltfReading;
 use crate::scene::gltf::tests::TempDir;
 use glam::Vec3;
@@ -97,6 +97,16 @@ fn scene_gltf_sheen_factors_textures_and_errors() {
     // The extension's defaults: black, roughness 0, which is no sheen at all.
     assert!(!m("defaults").has_sheen());
     assert!(!scene.warnings.iter().any(|w| w.contains("not supported")), "{:?}", scene.warnings);
+    // The lobe follows the reading: the specification's Charlie sheen for a file not from
+    // Blender, Cycles' sheen in Blender's reading (by its generator, or by hand).
+    assert_eq!(m("plain").sheen_model, SheenModel::Charlie);
+    let mut blender = scene.clone();
+    blender.set_reading(GltfReading::Blender);
+    assert!(blender.materials.iter().all(|m| m.sheen_model == SheenModel::Cycles));
+    let mut by_blender = doc.clone();
+    by_blender["asset"]["generator"] = json!("Khronos glTF Blender I/O v5.0.21");
+    let scene = load_json(&dir, "blender.gltf", &by_blender).unwrap();
+    assert!(scene.materials.iter().all(|m| m.sheen_model == SheenModel::Cycles));
 
     for (key, value, said) in [
         (
