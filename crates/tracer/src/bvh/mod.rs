@@ -291,7 +291,8 @@ impl Bvh {
     }
 
     /// The world-space corners of mesh triangle `triangle` (by its index in the mesh); a
-    /// moving triangle's at the shutter's opening.
+    /// moving triangle's at the shutter's opening. Not for a shared mesh's triangle, which
+    /// every copy of it draws: [`Bvh::triangle_at`] its slot.
     #[inline]
     pub fn triangle_corners_by_id(&self, triangle: u32) -> [Vec3; 3] {
         let slot = self.instances.as_ref().and_then(|i| i.slot_of(triangle));
@@ -312,6 +313,20 @@ impl Bvh {
                 }
             },
         }
+    }
+
+    /// The number of slots of the static tree: every slot from here on is a moving
+    /// triangle's or a copy's.
+    #[inline(always)]
+    pub fn static_slots(&self) -> usize {
+        self.triangles.len()
+    }
+
+    /// For the slot of a copy of a shared mesh (held once in the scene's mesh, in its own
+    /// space), how the copy moves that mesh's attributes; `None` for any other slot.
+    #[inline]
+    pub fn shared_copy(&self, slot: u32) -> Option<&crate::scene::Placement> {
+        self.instances.as_ref()?.shared(slot)
     }
 
     /// True when the triangle in `slot` moves within the shutter.
