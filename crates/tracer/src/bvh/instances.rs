@@ -182,6 +182,16 @@ impl InstanceTree {
         self.copy_of_slot(slot)?.0.shared.as_deref()
     }
 
+    /// For the slot of a copy of a shared mesh, its triangle's world corners and how the copy
+    /// moves the mesh's attributes, found with one search (a shared copy stands still).
+    #[inline]
+    pub(super) fn shared_hit(&self, slot: u32) -> Option<([[f32; 3]; 3], &Placement)> {
+        let (p, local) = self.copy_of_slot(slot)?;
+        let place = p.shared.as_deref()?;
+        let tri = self.meshes[p.mesh as usize].triangle_at(local, 0.0);
+        Some((tri.map(|c| p.world.transform_point3(Vec3::from_array(c)).to_array()), place))
+    }
+
     /// True when `slot` is a copy's, and that copy moves.
     #[inline]
     pub(super) fn moves(&self, slot: u32) -> bool {

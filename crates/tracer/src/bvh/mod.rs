@@ -329,6 +329,13 @@ impl Bvh {
         self.instances.as_ref()?.shared(slot)
     }
 
+    /// For the slot of a copy of a shared mesh, its triangle's world corners (as
+    /// [`Bvh::triangle_at`] gives them) and how the copy moves the mesh's attributes.
+    #[inline]
+    pub fn shared_hit(&self, slot: u32) -> Option<([[f32; 3]; 3], &crate::scene::Placement)> {
+        self.instances.as_ref()?.shared_hit(slot)
+    }
+
     /// True when the triangle in `slot` moves within the shutter.
     #[inline(always)]
     pub fn is_moving(&self, slot: u32) -> bool {

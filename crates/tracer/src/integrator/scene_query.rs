@@ -60,7 +60,30 @@ impl SceneQuery {
     /// pose's BVH, refits it when it can (see `PathTracer::reposed`), and says whether it did.
     pub(super) fn new(scene: &Scene, config: IntegratorConfig, previous: Option<Bvh>) -> (Self, bool) {
         let mesh = &scene.mesh;
+        // The BVH first: its build's transient arrays (the largest of a big scene's) then
+        // never coexist with the shading arrays below (docs/performance.md, ledger: "BVH
+        // before the shading arrays").
+        // Triangles that move within the shutter go in the BVH's motion tree, emitters too: light
+        // sampling places them where the ray's time has them (`light::motion`).
+        let moving = scene.motion.as_deref().and_then(|motion| {
+            let moving = motion.moving_triangles(mesh);
+            moving.contains(&true).then_some((motion, moving))
+        });
+        let mut refitted = false;
+        let instances = scene.instances.as_deref();
+        let bvh = match (&moving, previous) {
+            (Some((motion, moving)), _) => Bvh::build_scene(mesh, Some((motion, moving)), instances),
+            (None, _) if instances.is_some() => Bvh::build_scene(mesh, None, instances),
+            (None, Some(mut bvh)) => {
+                refitted = bvh.refit(mesh);
+                if refitted { bvh } else { Bvh::build(mesh) }
+            }
+            (None, None) => Bvh::build(mesh),
+        };
         let mut attributes = Attributes::gather(mesh);
+        if let Some((motion, _)) = &moving {
+            attributes.gather_motion(mesh, &motion.normals);
+        }
         let alpha_tested =
             scene.materials.iter().any(Material::has_alpha).then(|| {
                 mesh.material_ids.iter().map(|&m| scene.materials[m as usize].has_alpha()).collect()
@@ -73,26 +96,6 @@ impl SceneQuery {
                 Frame::from_z((v1 - v0).cross(v2 - v0).normalize_or(Vec3::Z))
             })
             .collect();
-        // Triangles that move within the shutter go in the BVH's motion tree, emitters too: light
-        // sampling places them where the ray's time has them (`light::motion`).
-        let moving = scene.motion.as_deref().and_then(|motion| {
-            let moving = motion.moving_triangles(mesh);
-            moving.contains(&true).then_some((motion, moving))
-        });
-        let mut refitted = false;
-        let instances = scene.instances.as_deref();
-        let bvh = match (&moving, previous) {
-            (Some((motion, moving)), _) => {
-                attributes.gather_motion(mesh, &motion.normals);
-                Bvh::build_scene(mesh, Some((motion, moving)), instances)
-            }
-            (None, _) if instances.is_some() => Bvh::build_scene(mesh, None, instances),
-            (None, Some(mut bvh)) => {
-                refitted = bvh.refit(mesh);
-                if refitted { bvh } else { Bvh::build(mesh) }
-            }
-            (None, None) => Bvh::build(mesh),
-        };
         let query = Self {
             bvh,
             geometric_frames,
@@ -271,13 +274,13 @@ impl SceneQuery {
     /// keeps them out of the way of a scene without either.
     #[inline(never)]
     fn copy_or_moving_surface<const FLAT: bool>(&self, hit: &Hit) -> SurfaceInteraction {
+        if let Some((tri, place)) = self.bvh.shared_hit(hit.slot) {
+            return self.copy_surface::<FLAT>(hit, tri, place);
+        }
         if self.bvh.is_moving(hit.slot) {
             return self.moving_surface::<FLAT>(hit);
         }
-        match self.bvh.shared_copy(hit.slot) {
-            Some(place) => self.copy_surface::<FLAT>(hit, place),
-            None => self.still_surface::<FLAT>(hit),
-        }
+        self.still_surface::<FLAT>(hit)
     }
 
     /// [`SceneQuery::surface`] of a triangle that stands still in the mesh's world space.
@@ -318,8 +321,13 @@ impl SceneQuery {
     /// [`SceneQuery::surface`] of a copy of a shared mesh: its world corners from the copy
     /// (the bits flattening gives), its frame from them, and its vertex normals moved by the
     /// copy's placement vertex by vertex, as flattening moves them, then interpolated.
-    fn copy_surface<const FLAT: bool>(&self, hit: &Hit, place: &Placement) -> SurfaceInteraction {
-        let tri = self.bvh.triangle_at(hit.slot, hit.time);
+    #[inline(always)]
+    fn copy_surface<const FLAT: bool>(
+        &self,
+        hit: &Hit,
+        tri: [[f32; 3]; 3],
+        place: &Placement,
+    ) -> SurfaceInteraction {
         let (p, p_error) = crate::triangle::hit_point(&tri, hit.barycentrics);
         let t = hit.triangle as usize;
         let [v0, v1, v2] = tri.map(Vec3::from_array);
