@@ -14,14 +14,9 @@ use tracer::lens::LensChain;
 use tracer::render::{NoProgress, RenderSettings, render};
 use tracer::scene::Scene;
 
-/// This process's user + system CPU seconds (from /proc/self/stat, clock ticks of 1/100 s).
-fn cpu_seconds() -> f64 {
-    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
-    let after = stat.rsplit_once(')').map_or("", |s| s.1);
-    let fields: Vec<&str> = after.split_whitespace().collect();
-    let tick = |i: usize| fields.get(i).and_then(|f| f.parse::<f64>().ok()).unwrap_or(0.0) / 100.0;
-    tick(11) + tick(12)
-}
+#[path = "common/cpu.rs"]
+mod cpu;
+use cpu::cpu_seconds;
 
 /// CPU seconds to render `scene` (its tracer prepared outside the clock).
 fn cpu_of(scene: &Scene, camera: &CameraDesc, spp: u32) -> f64 {

@@ -116,8 +116,27 @@ fn build_in_range(mut aabbs: Vec<Aabb>) -> CwBvh {
             *b = Aabb::new(outwards(b.min, true), outwards(b.max, false));
         }
     }
+    // obvhs's `build_cwbvh`, step by step (the same calls, the same tree), so that the boxes
+    // are freed once the binary tree holds them: a big scene's peak is this conversion's
+    // (docs/performance.md, ledger: "boxes freed before the conversion").
+    let config = BvhBuildParams::medium_build();
+    let indices = (0..aabbs.len() as u32).collect();
+    let mut bvh2 = obvhs::ploc::PlocBuilder::with_capacity(aabbs.len()).build(
+        config.ploc_search_distance,
+        &aabbs,
+        indices,
+        config.sort_precision,
+        config.search_depth_threshold,
+    );
+    drop(aabbs);
+    obvhs::bvh2::reinsertion::ReinsertionOptimizer::default().run(
+        &mut bvh2,
+        config.reinsertion_batch_ratio,
+        None,
+    );
     let mut cwbvh =
-        obvhs::cwbvh::builder::build_cwbvh(&aabbs, BvhBuildParams::medium_build(), &mut Default::default());
+        obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh(&bvh2, config.max_prims_per_leaf.clamp(1, 3), true, false);
+    drop(bvh2);
     if k > 0 {
         for node in &mut cwbvh.nodes {
             node.p *= up;

@@ -307,14 +307,28 @@ impl SceneQuery {
             }
             None => geometric,
         };
+        self.interaction(hit, (p, p_error), n_geom, shading)
+    }
+
+    /// The interaction at `hit` on its point (and error bound), geometric normal and shading
+    /// frame.
+    #[inline(always)]
+    fn interaction(
+        &self,
+        hit: &Hit,
+        (p, p_error): (Vec3, Vec3),
+        n_geom: Vec3,
+        shading: Frame,
+    ) -> SurfaceInteraction {
+        let (triangle, slot) = (hit.triangle, hit.slot);
         SurfaceInteraction {
             p,
             p_error,
             n_geom,
             shading,
-            triangle: hit.triangle,
-            slot: hit.slot,
-            material: self.material_ids[t],
+            triangle,
+            slot,
+            material: self.material_ids[triangle as usize],
         }
     }
 
@@ -330,8 +344,7 @@ impl SceneQuery {
     ) -> SurfaceInteraction {
         let (p, p_error) = crate::triangle::hit_point(&tri, hit.barycentrics);
         let t = hit.triangle as usize;
-        let [v0, v1, v2] = tri.map(Vec3::from_array);
-        let geometric = Frame::from_z((v1 - v0).cross(v2 - v0).normalize_or(Vec3::Z));
+        let geometric = frame_of(&tri);
         let n_geom = geometric.z;
         let shading = match &self.attributes.normals {
             _ if FLAT => geometric,
@@ -345,15 +358,7 @@ impl SceneQuery {
             }
             None => geometric,
         };
-        SurfaceInteraction {
-            p,
-            p_error,
-            n_geom,
-            shading,
-            triangle: hit.triangle,
-            slot: hit.slot,
-            material: self.material_ids[t],
-        }
+        self.interaction(hit, (p, p_error), n_geom, shading)
     }
 
     /// [`SceneQuery::surface`] of a triangle that moves within the shutter: its corners, frame
@@ -363,8 +368,7 @@ impl SceneQuery {
         let tri = self.bvh.triangle_at(hit.slot, hit.time);
         let (p, p_error) = crate::triangle::hit_point(&tri, hit.barycentrics);
         let t = hit.triangle as usize;
-        let [v0, v1, v2] = tri.map(Vec3::from_array);
-        let geometric = Frame::from_z((v1 - v0).cross(v2 - v0).normalize_or(Vec3::Z));
+        let geometric = frame_of(&tri);
         let n_geom = geometric.z;
         let shading = match (&self.attributes.normals, &self.attributes.motion_normals) {
             _ if FLAT => geometric,
@@ -386,15 +390,7 @@ impl SceneQuery {
             }
             _ => geometric,
         };
-        SurfaceInteraction {
-            p,
-            p_error,
-            n_geom,
-            shading,
-            triangle: hit.triangle,
-            slot: hit.slot,
-            material: self.material_ids[t],
-        }
+        self.interaction(hit, (p, p_error), n_geom, shading)
     }
 
     /// The material evaluated at `si` (textures, normal map, vertex colour). `UNTEXTURED`: the
@@ -515,4 +511,11 @@ impl SceneQuery {
             _ => self.bvh.occluded_from(ray, t_max, leaving, |_, _| true),
         }
     }
+}
+
+/// The frame around the unit geometric normal of the triangle with world corners `tri`.
+#[inline(always)]
+fn frame_of(tri: &[[f32; 3]; 3]) -> Frame {
+    let [v0, v1, v2] = tri.map(Vec3::from_array);
+    Frame::from_z((v1 - v0).cross(v2 - v0).normalize_or(Vec3::Z))
 }
