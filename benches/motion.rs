@@ -24,15 +24,9 @@ use tracer::scene::{DEFAULT_MOTION_STEPS, Scene};
 /// Quads per side: 2 × 224² = 100 352 triangles.
 const GRID: u32 = 224;
 
-/// This process's user + system CPU seconds (from /proc/self/stat, clock ticks of 1/100 s).
-fn cpu_seconds() -> f64 {
-    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
-    let after = stat.rsplit_once(')').map_or("", |s| s.1);
-    let fields: Vec<&str> = after.split_whitespace().collect();
-    let tick = |i: usize| fields.get(i).and_then(|f| f.parse::<f64>().ok()).unwrap_or(0.0) / 100.0;
-    // Fields 14 and 15 of the stat line (utime, stime) are 12 and 13 after the name.
-    tick(11) + tick(12)
-}
+#[path = "common/cpu.rs"]
+mod cpu;
+use cpu::cpu_seconds;
 
 /// Writes the skinned grid: x in [−1, 1], y in [0, 4] at z = 0, joints at y = 0, 1, 2, 3, each
 /// vertex between the two joints around its height; joints 1–3 turn 30° about z over 1 s.

@@ -173,7 +173,10 @@ fn gpu_instances_are_drawn_where_the_extension_places_them() {
     );
     let path = g.write(&dir, "instanced");
     declare_extension(&path, "EXT_mesh_gpu_instancing");
-    let scene = load(&path);
+    // The copies share one triangle; flattened, each is where the extension places it.
+    let shared = load(&path);
+    assert_eq!((shared.mesh.triangles.len(), shared.drawn_triangle_count()), (1, 3));
+    let scene = shared.with_copies_flattened();
     assert_eq!(scene.mesh.triangles.len(), 3);
     // glTF: world = node · T · R · S of the instance, computed here by hand.
     let p = &tri.positions;
@@ -200,8 +203,9 @@ fn the_simple_instancing_sample_draws_its_125_cubes() {
         return;
     }
     let scene = load(&path);
-    // One unit cube (12 triangles) per instance, translated over 0..10 on each axis.
-    assert_eq!(scene.mesh.triangles.len(), 125 * 12);
+    // One unit cube (12 triangles) per instance, translated over 0..10 on each axis: the
+    // scene's mesh holds it once.
+    assert_eq!((scene.mesh.triangles.len(), scene.drawn_triangle_count()), (12, 125 * 12));
     let (lo, hi) = scene.bounds().unwrap();
     assert!((hi - lo).min_element() >= 10.0, "instances spread over {lo}..{hi}");
     // Drawn as 125 instances of one cube: the BVH stores its 12 triangles once.
@@ -209,7 +213,7 @@ fn the_simple_instancing_sample_draws_its_125_cubes() {
     assert_eq!((instances.meshes.len(), instances.instances.len()), (1, 125));
     let config = tracer::integrator::IntegratorConfig::DEFAULT;
     let bvh_of = |s: &tracer::scene::Scene| tracer::integrator::PathTracer::new(s, config).unwrap();
-    let flat = tracer::scene::Scene { instances: None, ..scene.clone() };
+    let flat = tracer::scene::Scene { instances: None, ..scene.with_copies_flattened() };
     let (instanced, flattened) = (bvh_of(&scene), bvh_of(&flat));
     assert_eq!(instanced.bvh().stored_triangles(), 12);
     assert_eq!(flattened.bvh().stored_triangles(), 125 * 12);
@@ -229,7 +233,8 @@ fn the_simple_instancing_sample_draws_its_125_cubes() {
     .unwrap();
     let size = glam::UVec2::new(64, 48);
     let a = super::harness::render(&lit, &camera, size, 16, 3);
-    let b = super::harness::render(&tracer::scene::Scene { instances: None, ..lit }, &camera, size, 16, 3);
+    let flat_lit = tracer::scene::Scene { instances: None, ..lit.with_copies_flattened() };
+    let b = super::harness::render(&flat_lit, &camera, size, 16, 3);
     let (pa, pb) = (&a.images.image.pixels, &b.images.image.pixels);
     let differing = pa.iter().zip(pb).filter(|(x, y)| (**x - **y).abs().max_element() > 1e-3).count();
     let mean = |p: &[Vec3]| p.iter().map(|v| v.x as f64 + v.y as f64 + v.z as f64).sum::<f64>();

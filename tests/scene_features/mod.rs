@@ -22,5 +22,6 @@ mod geometry_extensions;
 mod harness;
 mod lights;
 mod materials;
+mod shared_instances;
 mod skinning;
 mod textures;

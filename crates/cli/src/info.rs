@@ -14,7 +14,11 @@ pub struct InfoArgs {
 pub fn run(a: InfoArgs) -> anyhow::Result<()> {
     let scene = Scene::load(&a.scene)?;
     println!("scene      {}", a.scene.display());
-    println!("triangles  {}", scene.mesh.triangle_count());
+    let (drawn, stored) = (scene.drawn_triangle_count(), scene.mesh.triangle_count());
+    match drawn == stored {
+        true => println!("triangles  {drawn}"),
+        false => println!("triangles  {drawn} ({stored} stored: copies share their mesh)"),
+    }
     println!("textures   {}", scene.textures.len());
     println!("cameras    {}", scene.describe_cameras());
     let emissive = scene.materials.iter().filter(|m| m.is_emissive()).count();

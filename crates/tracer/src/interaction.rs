@@ -19,8 +19,10 @@ pub struct SurfaceInteraction {
     /// The shading frame: its z is the unit shading normal (interpolated vertex normals, or
     /// `n_geom` with the triangle's precomputed tangents).
     pub shading: Frame,
-    /// The mesh triangle hit.
+    /// The mesh triangle hit (a shared mesh's, in its own space, for a copy of one).
     pub triangle: u32,
+    /// Its slot in the BVH (which copy, for a copy of a shared mesh).
+    pub slot: u32,
     /// Its material.
     pub material: u32,
 }

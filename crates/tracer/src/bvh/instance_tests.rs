@@ -41,13 +41,14 @@ fn placement(rng: &mut Rng, mirror: bool) -> Affine3A {
 fn scene(copies: usize, moving: bool) -> (Mesh, SceneInstances) {
     let mut rng = Rng::new(0x51ce);
     let mut instances =
-        SceneInstances { meshes: vec![blob(&mut rng, 40), blob(&mut rng, 25)], instances: vec![] };
+        SceneInstances { meshes: vec![blob(&mut rng, 40), blob(&mut rng, 25)], ..SceneInstances::default() };
     let mirrored: Vec<InstanceMesh> = instances
         .meshes
         .iter()
         .map(|m| InstanceMesh {
             positions: m.positions.clone(),
             triangles: m.triangles.iter().map(|&[a, b, c]| [a, c, b]).collect(),
+            shared: false,
         })
         .collect();
     instances.meshes.extend(mirrored);
@@ -85,7 +86,7 @@ fn scene(copies: usize, moving: bool) -> (Mesh, SceneInstances) {
         let world = motion.as_ref().map_or(world, |m| m.at(0.0));
         instances.instances.push(Instance { mesh: m, first, world, motion });
     }
-    instances.validate(mesh.triangle_count()).unwrap();
+    instances.validate(&mesh).unwrap();
     (mesh, instances)
 }
 
@@ -249,7 +250,7 @@ fn a_turning_copy_is_found_all_along_its_arc() {
         MeshPart { positions: &positions, normals: None, uvs: None, indices: Some(&indices), material: 0 };
     mesh.push(part).unwrap();
     let instance = Instance { mesh: 0, first: 0, world: step(45.0), motion: Some(motion) };
-    let instances = SceneInstances { meshes: vec![local], instances: vec![instance] };
+    let instances = SceneInstances { meshes: vec![local], instances: vec![instance], shared_from: None };
     let bvh = Bvh::build_scene(&mesh, None, Some(&instances));
     let mut above = 0;
     for k in 0..400 {

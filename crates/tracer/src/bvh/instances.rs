@@ -19,7 +19,7 @@ use super::node::WideNode;
 use super::walk::{Fixed, QueryRay, Step, Tree, Walk, test_all, walk, walk_nodes};
 use super::{Bvh, build_in_range, widen};
 use crate::ray::Ray;
-use crate::scene::{Mesh, RigidMotion, SceneInstances};
+use crate::scene::{Mesh, Placement, RigidMotion, SceneInstances};
 use crate::triangle::TriangleHit;
 use glam::{Affine3A, Vec3};
 
@@ -41,6 +41,9 @@ pub(super) struct Placed {
     inverse: Affine3A,
     /// Its transform over the shutter (boxed: most copies stand still).
     motion: Option<Box<RigidMotion>>,
+    /// How it moves its mesh's attributes, when the scene's mesh holds that mesh once in its
+    /// own space (shared) rather than this copy's triangles in world space.
+    shared: Option<Box<Placement>>,
 }
 
 /// The instances: each unique mesh's tree and the tree over the copies.
@@ -108,13 +111,21 @@ impl InstanceTree {
                     world: i.world,
                     inverse: i.world.inverse(),
                     motion: i.motion.clone().map(Box::new),
+                    shared: instances.meshes[i.mesh as usize]
+                        .shared
+                        .then(|| Box::new(Placement::new(&i.world))),
                 };
                 base += meshes[i.mesh as usize].len() as u32;
                 p
             })
             .collect();
-        let mut by_triangle: Vec<(u32, u32)> =
-            placed.iter().enumerate().map(|(k, p)| (p.first, k as u32)).collect();
+        // A shared mesh's copies all name one range: no triangle number tells them apart.
+        let mut by_triangle: Vec<(u32, u32)> = placed
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| p.shared.is_none())
+            .map(|(k, p)| (p.first, k as u32))
+            .collect();
         by_triangle.sort_unstable();
         Self { meshes, placed, top, by_triangle, end: base }
     }
@@ -129,6 +140,7 @@ impl InstanceTree {
         self.meshes.iter().map(Bvh::bytes).sum::<usize>()
             + self.placed.len() * std::mem::size_of::<Placed>()
             + self.placed.iter().filter_map(|p| p.motion.as_deref()).map(RigidMotion::bytes).sum::<usize>()
+            + self.placed.iter().filter(|p| p.shared.is_some()).count() * std::mem::size_of::<Placement>()
             + std::mem::size_of_val(&self.top[..])
             + std::mem::size_of_val(&self.by_triangle[..])
     }
@@ -161,6 +173,23 @@ impl InstanceTree {
         let p = &self.placed[self.by_triangle[k].1 as usize];
         let local = triangle - p.first;
         (local < self.meshes[p.mesh as usize].len() as u32).then_some((p, local))
+    }
+
+    /// How the copy whose slots hold `slot` moves its mesh's attributes, when its mesh is
+    /// shared.
+    #[inline]
+    pub(super) fn shared(&self, slot: u32) -> Option<&Placement> {
+        self.copy_of_slot(slot)?.0.shared.as_deref()
+    }
+
+    /// For the slot of a copy of a shared mesh, its triangle's world corners and how the copy
+    /// moves the mesh's attributes, found with one search (a shared copy stands still).
+    #[inline]
+    pub(super) fn shared_hit(&self, slot: u32) -> Option<([[f32; 3]; 3], &Placement)> {
+        let (p, local) = self.copy_of_slot(slot)?;
+        let place = p.shared.as_deref()?;
+        let tri = self.meshes[p.mesh as usize].triangle_at(local, 0.0);
+        Some((tri.map(|c| p.world.transform_point3(Vec3::from_array(c)).to_array()), place))
     }
 
     /// True when `slot` is a copy's, and that copy moves.

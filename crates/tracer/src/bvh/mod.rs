@@ -118,8 +118,27 @@ fn build_in_range(mut aabbs: Vec<Aabb>) -> CwBvh {
             *b = Aabb::new(outwards(b.min, true), outwards(b.max, false));
         }
     }
+    // obvhs's `build_cwbvh`, step by step (the same calls, the same tree), so that the boxes
+    // are freed once the binary tree holds them: a big scene's peak is this conversion's
+    // (docs/performance.md, ledger: "boxes freed before the conversion").
+    let config = BvhBuildParams::medium_build();
+    let indices = (0..aabbs.len() as u32).collect();
+    let mut bvh2 = obvhs::ploc::PlocBuilder::with_capacity(aabbs.len()).build(
+        config.ploc_search_distance,
+        &aabbs,
+        indices,
+        config.sort_precision,
+        config.search_depth_threshold,
+    );
+    drop(aabbs);
+    obvhs::bvh2::reinsertion::ReinsertionOptimizer::default().run(
+        &mut bvh2,
+        config.reinsertion_batch_ratio,
+        None,
+    );
     let mut cwbvh =
-        obvhs::cwbvh::builder::build_cwbvh(&aabbs, BvhBuildParams::medium_build(), &mut Default::default());
+        obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh(&bvh2, config.max_prims_per_leaf.clamp(1, 3), true, false);
+    drop(bvh2);
     if k > 0 {
         for node in &mut cwbvh.nodes {
             node.p *= up;
@@ -293,7 +312,8 @@ impl Bvh {
     }
 
     /// The world-space corners of mesh triangle `triangle` (by its index in the mesh); a
-    /// moving triangle's at the shutter's opening.
+    /// moving triangle's at the shutter's opening. Not for a shared mesh's triangle, which
+    /// every copy of it draws: [`Bvh::triangle_at`] its slot.
     #[inline]
     pub fn triangle_corners_by_id(&self, triangle: u32) -> [Vec3; 3] {
         let slot = self.instances.as_ref().and_then(|i| i.slot_of(triangle));
@@ -314,6 +334,27 @@ impl Bvh {
                 }
             },
         }
+    }
+
+    /// The number of slots of the static tree: every slot from here on is a moving
+    /// triangle's or a copy's.
+    #[inline(always)]
+    pub fn static_slots(&self) -> usize {
+        self.triangles.len()
+    }
+
+    /// For the slot of a copy of a shared mesh (held once in the scene's mesh, in its own
+    /// space), how the copy moves that mesh's attributes; `None` for any other slot.
+    #[inline]
+    pub fn shared_copy(&self, slot: u32) -> Option<&crate::scene::Placement> {
+        self.instances.as_ref()?.shared(slot)
+    }
+
+    /// For the slot of a copy of a shared mesh, its triangle's world corners (as
+    /// [`Bvh::triangle_at`] gives them) and how the copy moves the mesh's attributes.
+    #[inline]
+    pub fn shared_hit(&self, slot: u32) -> Option<([[f32; 3]; 3], &crate::scene::Placement)> {
+        self.instances.as_ref()?.shared_hit(slot)
     }
 
     /// True when the triangle in `slot` moves within the shutter.

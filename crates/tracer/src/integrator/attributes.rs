@@ -47,6 +47,16 @@ impl Attributes {
         }
     }
 
+    /// Bytes the gathered attributes take.
+    pub(super) fn bytes(&self) -> usize {
+        fn of<T>(v: &Option<Vec<T>>) -> usize {
+            v.as_ref().map_or(0, |v| std::mem::size_of_val(&v[..]))
+        }
+        let motion =
+            self.motion_normals.iter().flatten().map(|s| std::mem::size_of_val(&s[..])).sum::<usize>();
+        of(&self.normals) + of(&self.uvs) + of(&self.uvs1) + of(&self.tangents) + of(&self.colors) + motion
+    }
+
     /// Texture coordinates (sets 0 and 1) on `triangle` at barycentrics `b`.
     #[inline]
     pub(super) fn uvs(&self, triangle: u32, b: [f32; 3]) -> [Vec2; 2] {

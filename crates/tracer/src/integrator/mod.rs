@@ -182,6 +182,12 @@ impl PathTracer {
         self.scene.bvh()
     }
 
+    /// Bytes the per-triangle shading arrays take (vertex attributes gathered per triangle,
+    /// geometric frames, material ids, alpha-test flags): a shared mesh's once.
+    pub fn shading_bytes(&self) -> usize {
+        self.scene.shading_bytes()
+    }
+
     /// True when some material is alpha-tested (renders then use the alpha-aware traversal).
     pub fn has_alpha(&self) -> bool {
         self.scene.has_alpha()

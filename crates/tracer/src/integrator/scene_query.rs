@@ -15,7 +15,7 @@ use crate::light::{LightSample, LightSampler};
 use crate::material::{AlphaMode, Material};
 use crate::ray::Ray;
 use crate::sampling::Frame;
-use crate::scene::Scene;
+use crate::scene::{Placement, Scene};
 use crate::shading::{self, ShadingPoint, TangentFrame};
 use crate::texture::Texture;
 use glam::{Vec2, Vec3};
@@ -60,7 +60,30 @@ impl SceneQuery {
     /// pose's BVH, refits it when it can (see `PathTracer::reposed`), and says whether it did.
     pub(super) fn new(scene: &Scene, config: IntegratorConfig, previous: Option<Bvh>) -> (Self, bool) {
         let mesh = &scene.mesh;
+        // The BVH first: its build's transient arrays (the largest of a big scene's) then
+        // never coexist with the shading arrays below (docs/performance.md, ledger: "BVH
+        // before the shading arrays").
+        // Triangles that move within the shutter go in the BVH's motion tree, emitters too: light
+        // sampling places them where the ray's time has them (`light::motion`).
+        let moving = scene.motion.as_deref().and_then(|motion| {
+            let moving = motion.moving_triangles(mesh);
+            moving.contains(&true).then_some((motion, moving))
+        });
+        let mut refitted = false;
+        let instances = scene.instances.as_deref();
+        let bvh = match (&moving, previous) {
+            (Some((motion, moving)), _) => Bvh::build_scene(mesh, Some((motion, moving)), instances),
+            (None, _) if instances.is_some() => Bvh::build_scene(mesh, None, instances),
+            (None, Some(mut bvh)) => {
+                refitted = bvh.refit(mesh);
+                if refitted { bvh } else { Bvh::build(mesh) }
+            }
+            (None, None) => Bvh::build(mesh),
+        };
         let mut attributes = Attributes::gather(mesh);
+        if let Some((motion, _)) = &moving {
+            attributes.gather_motion(mesh, &motion.normals);
+        }
         let alpha_tested =
             scene.materials.iter().any(Material::has_alpha).then(|| {
                 mesh.material_ids.iter().map(|&m| scene.materials[m as usize].has_alpha()).collect()
@@ -73,26 +96,6 @@ impl SceneQuery {
                 Frame::from_z((v1 - v0).cross(v2 - v0).normalize_or(Vec3::Z))
             })
             .collect();
-        // Triangles that move within the shutter go in the BVH's motion tree, emitters too: light
-        // sampling places them where the ray's time has them (`light::motion`).
-        let moving = scene.motion.as_deref().and_then(|motion| {
-            let moving = motion.moving_triangles(mesh);
-            moving.contains(&true).then_some((motion, moving))
-        });
-        let mut refitted = false;
-        let instances = scene.instances.as_deref();
-        let bvh = match (&moving, previous) {
-            (Some((motion, moving)), _) => {
-                attributes.gather_motion(mesh, &motion.normals);
-                Bvh::build_scene(mesh, Some((motion, moving)), instances)
-            }
-            (None, _) if instances.is_some() => Bvh::build_scene(mesh, None, instances),
-            (None, Some(mut bvh)) => {
-                refitted = bvh.refit(mesh);
-                if refitted { bvh } else { Bvh::build(mesh) }
-            }
-            (None, None) => Bvh::build(mesh),
-        };
         let query = Self {
             bvh,
             geometric_frames,
@@ -136,6 +139,15 @@ impl SceneQuery {
     /// True when some material is alpha-tested.
     pub(super) fn has_alpha(&self) -> bool {
         self.alpha_tested.is_some()
+    }
+
+    /// Bytes the per-triangle shading arrays take.
+    pub(super) fn shading_bytes(&self) -> usize {
+        use std::mem::size_of_val;
+        self.attributes.bytes()
+            + size_of_val(&self.geometric_frames[..])
+            + size_of_val(&self.material_ids[..])
+            + self.alpha_tested.as_ref().map_or(0, |a| size_of_val(&a[..]))
     }
 
     /// The acceleration structure (for tests).
@@ -252,9 +264,28 @@ impl SceneQuery {
     /// triangle's own frame without looking for vertex normals.
     #[inline(always)]
     pub(super) fn surface<const FLAT: bool>(&self, hit: &Hit) -> SurfaceInteraction {
+        if hit.slot as usize >= self.bvh.static_slots() {
+            return self.copy_or_moving_surface::<FLAT>(hit);
+        }
+        self.still_surface::<FLAT>(hit)
+    }
+
+    /// [`SceneQuery::surface`] of a moving triangle or an instance's: one branch on the slot
+    /// keeps them out of the way of a scene without either.
+    #[inline(never)]
+    fn copy_or_moving_surface<const FLAT: bool>(&self, hit: &Hit) -> SurfaceInteraction {
+        if let Some((tri, place)) = self.bvh.shared_hit(hit.slot) {
+            return self.copy_surface::<FLAT>(hit, tri, place);
+        }
         if self.bvh.is_moving(hit.slot) {
             return self.moving_surface::<FLAT>(hit);
         }
+        self.still_surface::<FLAT>(hit)
+    }
+
+    /// [`SceneQuery::surface`] of a triangle that stands still in the mesh's world space.
+    #[inline(always)]
+    fn still_surface<const FLAT: bool>(&self, hit: &Hit) -> SurfaceInteraction {
         let tri = &self.bvh.triangle_at(hit.slot, hit.time);
         let (p, p_error) = crate::triangle::hit_point(tri, hit.barycentrics);
         let t = hit.triangle as usize;
@@ -276,14 +307,58 @@ impl SceneQuery {
             }
             None => geometric,
         };
+        self.interaction(hit, (p, p_error), n_geom, shading)
+    }
+
+    /// The interaction at `hit` on its point (and error bound), geometric normal and shading
+    /// frame.
+    #[inline(always)]
+    fn interaction(
+        &self,
+        hit: &Hit,
+        (p, p_error): (Vec3, Vec3),
+        n_geom: Vec3,
+        shading: Frame,
+    ) -> SurfaceInteraction {
+        let (triangle, slot) = (hit.triangle, hit.slot);
         SurfaceInteraction {
             p,
             p_error,
             n_geom,
             shading,
-            triangle: hit.triangle,
-            material: self.material_ids[t],
+            triangle,
+            slot,
+            material: self.material_ids[triangle as usize],
         }
+    }
+
+    /// [`SceneQuery::surface`] of a copy of a shared mesh: its world corners from the copy
+    /// (the bits flattening gives), its frame from them, and its vertex normals moved by the
+    /// copy's placement vertex by vertex, as flattening moves them, then interpolated.
+    #[inline(always)]
+    fn copy_surface<const FLAT: bool>(
+        &self,
+        hit: &Hit,
+        tri: [[f32; 3]; 3],
+        place: &Placement,
+    ) -> SurfaceInteraction {
+        let (p, p_error) = crate::triangle::hit_point(&tri, hit.barycentrics);
+        let t = hit.triangle as usize;
+        let geometric = frame_of(&tri);
+        let n_geom = geometric.z;
+        let shading = match &self.attributes.normals {
+            _ if FLAT => geometric,
+            Some(normals) => {
+                let world = normals[t].map(|n| place.normal(n));
+                if world.contains(&Vec3::ZERO) {
+                    geometric
+                } else {
+                    Frame::from_z(lerp3(world, hit.barycentrics).normalize_or(n_geom))
+                }
+            }
+            None => geometric,
+        };
+        self.interaction(hit, (p, p_error), n_geom, shading)
     }
 
     /// [`SceneQuery::surface`] of a triangle that moves within the shutter: its corners, frame
@@ -293,8 +368,7 @@ impl SceneQuery {
         let tri = self.bvh.triangle_at(hit.slot, hit.time);
         let (p, p_error) = crate::triangle::hit_point(&tri, hit.barycentrics);
         let t = hit.triangle as usize;
-        let [v0, v1, v2] = tri.map(Vec3::from_array);
-        let geometric = Frame::from_z((v1 - v0).cross(v2 - v0).normalize_or(Vec3::Z));
+        let geometric = frame_of(&tri);
         let n_geom = geometric.z;
         let shading = match (&self.attributes.normals, &self.attributes.motion_normals) {
             _ if FLAT => geometric,
@@ -316,14 +390,7 @@ impl SceneQuery {
             }
             _ => geometric,
         };
-        SurfaceInteraction {
-            p,
-            p_error,
-            n_geom,
-            shading,
-            triangle: hit.triangle,
-            material: self.material_ids[t],
-        }
+        self.interaction(hit, (p, p_error), n_geom, shading)
     }
 
     /// The material evaluated at `si` (textures, normal map, vertex colour). `UNTEXTURED`: the
@@ -342,7 +409,7 @@ impl SceneQuery {
             let uv = self.attributes.uvs(si.triangle, b);
             let t = &material.textures;
             let frame = if t.normal.is_some() || t.coat_normal.is_some() || material.anisotropy.is_some() {
-                self.tangent_frame(si.triangle, b)
+                self.tangent_frame(si, b)
             } else {
                 NO_FRAME
             };
@@ -357,16 +424,17 @@ impl SceneQuery {
 
     /// Tangent data for normal mapping and anisotropy: vertex tangents if the mesh has them, and the
     /// triangle's ∂p/∂u, ∂p/∂v from its texture coordinates.
-    fn tangent_frame(&self, triangle: u32, b: [f32; 3]) -> TangentFrame {
-        let t = triangle as usize;
+    fn tangent_frame(&self, si: &SurfaceInteraction, b: [f32; 3]) -> TangentFrame {
+        let t = si.triangle as usize;
         let tangent = self.attributes.tangents.as_ref().and_then(|ts| {
-            let v = ts[t];
+            let v = match self.shared_copy(si.slot) {
+                Some(place) => ts[t].map(|x| place.tangent(x)),
+                None => ts[t],
+            };
             (v.iter().all(|x| x.truncate() != Vec3::ZERO)).then(|| lerp3(v, b))
         });
-        let [p0, p1, p2] = {
-            let [a, b, c] = self.bvh.triangle_corners_by_id(triangle);
-            [a, b, c]
-        };
+        // At the shutter's opening, for a moving triangle.
+        let [p0, p1, p2] = self.bvh.triangle_at(si.slot, f32::NEG_INFINITY).map(Vec3::from_array);
         let [uv0, uv1, uv2] = self.attributes.uvs.as_ref().map_or([Vec2::ZERO, Vec2::X, Vec2::Y], |u| u[t]);
         let (d1, d2) = (uv1 - uv0, uv2 - uv0);
         let (e1, e2) = (p1 - p0, p2 - p0);
@@ -378,6 +446,13 @@ impl SceneQuery {
             (e1, e2)
         };
         TangentFrame { tangent, dpdu, dpdv }
+    }
+
+    /// How the copy at `slot` moves its shared mesh's attributes; `None` (after one compare)
+    /// for a triangle of the static tree.
+    #[inline(always)]
+    fn shared_copy(&self, slot: u32) -> Option<&Placement> {
+        if (slot as usize) < self.bvh.static_slots() { None } else { self.bvh.shared_copy(slot) }
     }
 
     /// Whether the alpha test lets a ray through (false) or stops it (true) at barycentrics
@@ -436,4 +511,11 @@ impl SceneQuery {
             _ => self.bvh.occluded_from(ray, t_max, leaving, |_, _| true),
         }
     }
+}
+
+/// The frame around the unit geometric normal of the triangle with world corners `tri`.
+#[inline(always)]
+fn frame_of(tri: &[[f32; 3]; 3]) -> Frame {
+    let [v0, v1, v2] = tri.map(Vec3::from_array);
+    Frame::from_z((v1 - v0).cross(v2 - v0).normalize_or(Vec3::Z))
 }

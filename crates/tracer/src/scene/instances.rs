@@ -2,17 +2,23 @@
 //! and, per instance, where it is placed. The tracer's BVH then holds each mesh's triangles
 //! once, whatever the number of copies, and a tree over the instances above them.
 //!
-//! The scene's mesh still lists every copy's triangles flattened into world space (shading,
-//! lights and the loaders read it): instance k's triangle j is the mesh's triangle
-//! `first + j`, at the corners `world` gives the local ones. What becomes an instance is
+//! Where a mesh is *shared* (the copies of a static scene that emit no light), the scene's mesh
+//! holds it once, in its own space, after every world-space triangle: each copy's `first`
+//! names that one range, and a hit is shaded through its copy ([`Placement`]: positions,
+//! normals and tangents moved as flattening would have moved them, the mesh-local triangle's
+//! texture coordinates, colours and material). Memory then grows with the unique meshes, not
+//! the copies. Otherwise (moving copies, emitters, an animated scene, which posing flattens
+//! again) the scene's mesh lists every copy's triangles in world space: instance k's triangle
+//! j is the mesh's triangle `first + j`, at the corners `world` gives the local ones. What becomes an instance is
 //! chosen where the scene is built: the copies of `EXT_mesh_gpu_instancing`, and nodes that move
 //! rigidly within a shutter ([`RigidMotion`]: their transform at the motion steps, interpolated
 //! per ray time with the rotation by slerp, as Cycles interpolates its decomposed motion
 //! transforms). Deforming (skinned or morphing) meshes are not instances: their vertices move
 //! on their own (`motion.rs`).
 
+use super::Mesh;
 use super::rig::{Placed, Rig};
-use glam::{Affine3A, DVec4, Quat, Vec3, Vec4};
+use glam::{Affine3A, DVec4, Mat3, Quat, Vec3, Vec4};
 
 /// One unique mesh in its own space, as every instance of it shares it.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -22,6 +28,9 @@ pub struct InstanceMesh {
     /// Three vertex indices per triangle, in the order (and winding) the scene's mesh holds its
     /// instances' triangles.
     pub triangles: Vec<[u32; 3]>,
+    /// The scene's mesh holds this mesh once, in its own space, at every copy's `first`
+    /// (rather than each copy's triangles in world space).
+    pub shared: bool,
 }
 
 impl InstanceMesh {
@@ -56,30 +65,67 @@ pub struct Instance {
 pub struct SceneInstances {
     /// Unique meshes.
     pub meshes: Vec<InstanceMesh>,
-    /// Instances, in the order of their triangles in the scene's mesh (ranges never overlap).
+    /// Instances, in the order of their triangles in the scene's mesh (ranges never overlap,
+    /// but the copies of a shared mesh all name its one range).
     pub instances: Vec<Instance>,
+    /// Where the shared meshes' local triangles and vertices start in the scene's mesh (they
+    /// end it); `None` when no mesh is shared.
+    pub shared_from: Option<(u32, u32)>,
 }
 
 impl SceneInstances {
-    /// Checks the instances against the scene's `triangle_count` triangles: meshes that exist,
-    /// ranges inside the mesh, sorted and apart, transforms finite and invertible.
-    pub fn validate(&self, triangle_count: usize) -> Result<(), String> {
+    /// Checks the instances against the scene's `mesh`: meshes that exist, ranges inside the
+    /// mesh, sorted and apart (a shared mesh's copies all at its one range, past
+    /// `shared_from`, the rest before it), transforms finite and invertible.
+    pub fn validate(&self, mesh: &Mesh) -> Result<(), String> {
+        let (world_end, vertex_end) = self.shared_from.unwrap_or((u32::MAX, u32::MAX));
+        if self.shared_from.is_some()
+            && (world_end as usize > mesh.triangle_count() || vertex_end as usize > mesh.positions.len())
+        {
+            return Err(format!(
+                "the shared meshes start at triangle {world_end}, vertex {vertex_end}: past the mesh"
+            ));
+        }
         let mut end = 0usize;
+        let mut shared_at: Vec<Option<u32>> = vec![None; self.meshes.len()];
         for (k, inst) in self.instances.iter().enumerate() {
-            let mesh = self
+            let mesh_k = self
                 .meshes
                 .get(inst.mesh as usize)
                 .ok_or_else(|| format!("instance {k} uses mesh {} of {}", inst.mesh, self.meshes.len()))?;
             let first = inst.first as usize;
-            if first < end || first + mesh.triangle_count() > triangle_count {
-                return Err(format!("instance {k}'s triangles {first}.. overlap or pass the scene's"));
+            let count = mesh_k.triangle_count();
+            let overlap = || format!("instance {k}'s triangles {first}.. overlap or pass the scene's");
+            if mesh_k.shared {
+                let at = shared_at[inst.mesh as usize].get_or_insert(inst.first);
+                let local = first >= world_end as usize && first + count <= mesh.triangle_count();
+                if *at != inst.first || !local || (first < end && first != end - count) {
+                    return Err(overlap());
+                }
+                if inst.motion.is_some() {
+                    return Err(format!("instance {k} moves but its mesh is shared"));
+                }
+            } else if first < end || first + count > mesh.triangle_count().min(world_end as usize) {
+                return Err(overlap());
             }
-            end = first + mesh.triangle_count();
+            end = first + count;
             if !invertible(&inst.world) {
                 return Err(format!("instance {k}'s transform is not finite and invertible"));
             }
         }
         Ok(())
+    }
+
+    /// Bytes the meshes and instances take.
+    pub fn bytes(&self) -> usize {
+        let meshes: usize = self
+            .meshes
+            .iter()
+            .map(|m| std::mem::size_of_val(&m.positions[..]) + std::mem::size_of_val(&m.triangles[..]))
+            .sum();
+        let motion: usize =
+            self.instances.iter().filter_map(|i| i.motion.as_ref()).map(RigidMotion::bytes).sum();
+        meshes + std::mem::size_of_val(&self.instances[..]) + motion
     }
 
     /// The number of instances that move within the shutter.
@@ -143,15 +189,181 @@ impl<'a> Builder<'a> {
         out.instances.sort_by_key(|i| i.first);
         (!out.instances.is_empty()).then_some(out)
     }
+
+    /// The instances with every mesh that `emits` no light shared: `mesh` (flattened with
+    /// every copy in world space) loses its copies' triangles and vertices and gains each
+    /// shared mesh once, in its own space, at its end; its copies' `first` name that range.
+    pub(in crate::scene) fn finish_shared(
+        self,
+        mesh: Mesh,
+        emits: impl Fn(u32) -> bool,
+    ) -> (Mesh, Option<SceneInstances>) {
+        let (rig, keys) = (self.rig, self.keys.clone());
+        let Some(mut out) = self.finish() else { return (mesh, None) };
+        let counts: Vec<usize> = out.meshes.iter().map(InstanceMesh::triangle_count).collect();
+        let count = |m: u32| counts[m as usize];
+        // An emitting mesh's copies each stay lights of their own: none of them is shared.
+        let mut shared = vec![true; out.meshes.len()];
+        for i in &out.instances {
+            let range = i.first as usize..i.first as usize + count(i.mesh);
+            shared[i.mesh as usize] &= !mesh.material_ids[range].iter().any(|&m| emits(m));
+        }
+        out.meshes.iter_mut().zip(shared).for_each(|(m, s)| m.shared = s);
+        if !out.meshes.iter().any(|m| m.shared) {
+            return (mesh, Some(out));
+        }
+        let mut dropped = vec![false; mesh.triangle_count()];
+        for i in out.instances.iter().filter(|i| out.meshes[i.mesh as usize].shared) {
+            dropped[i.first as usize..i.first as usize + count(i.mesh)].fill(true);
+        }
+        // What is left keeps its order; `new_index[t]`: where world triangle t went.
+        let mut new_index = Vec::with_capacity(mesh.triangle_count());
+        let mut kept = 0u32;
+        for &d in &dropped {
+            new_index.push(kept);
+            kept += u32::from(!d);
+        }
+        let mut world = mesh.without(&dropped);
+        let shared_from = (world.triangle_count() as u32, world.positions.len() as u32);
+        let mut local_first = vec![u32::MAX; out.meshes.len()];
+        for (m, key) in keys.iter().enumerate().filter(|(m, _)| out.meshes[*m].shared) {
+            local_first[m] = world.triangle_count() as u32;
+            let pushed = rig.push_local(key.0..key.1, key.2, &mut world);
+            debug_assert!(
+                pushed.is_ok() && world.triangle_count() as u32 - local_first[m] == count(m as u32) as u32
+            );
+        }
+        for i in &mut out.instances {
+            i.first = match out.meshes[i.mesh as usize].shared {
+                true => local_first[i.mesh as usize],
+                false => new_index[i.first as usize],
+            };
+        }
+        out.instances.sort_by_key(|i| i.first);
+        out.shared_from = Some(shared_from);
+        (world, Some(out))
+    }
 }
 
-/// The copies `EXT_mesh_gpu_instancing` placed among `placed` (one flattening of `rig`).
-pub(in crate::scene) fn gpu_instances(rig: &Rig, placed: &[Placed]) -> Option<SceneInstances> {
+/// How a copy's placement moves its mesh's vertex attributes into world space, as flattening
+/// moves a node's: positions by the transform, normals by its cofactor matrix (the inverse
+/// transpose up to a positive scale, finite for singular transforms), tangents by its linear
+/// part, the bitangent sign flipped where it mirrors.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Placement {
+    /// The linear part of the transform.
+    pub linear: Mat3,
+    /// Its cofactor matrix, signed by its determinant so that mirrored normals still point
+    /// out of the re-wound front face.
+    pub cofactor: Mat3,
+    /// The transform mirrors (its triangles were re-wound).
+    pub mirrored: bool,
+}
+
+impl Placement {
+    /// The placement by `world`.
+    pub fn new(world: &Affine3A) -> Self {
+        let linear = Mat3::from(world.matrix3);
+        Self { linear, cofactor: super::normal_matrix(linear), mirrored: linear.determinant() < 0.0 }
+    }
+
+    /// A vertex normal in world space (unit, or zero for none).
+    #[inline(always)]
+    pub fn normal(&self, n: Vec3) -> Vec3 {
+        (self.cofactor * n).normalize_or_zero()
+    }
+
+    /// A vertex tangent in world space (unit xyz and the bitangent sign, or zero for none).
+    #[inline(always)]
+    pub fn tangent(&self, t: Vec4) -> Vec4 {
+        let handedness = if self.mirrored { -1.0 } else { 1.0 };
+        let xyz = (self.linear * t.truncate()).normalize_or_zero();
+        let w = if t.w < 0.0 { -handedness } else { handedness };
+        if xyz == Vec3::ZERO { Vec4::ZERO } else { xyz.extend(w) }
+    }
+}
+
+/// `mesh` with every copy of its shared meshes in world space again (each after the world
+/// triangles, in instance order), and no shared mesh: what flattening the copies gives, bit
+/// for bit but for the triangles' order.
+pub(in crate::scene) fn unshare(mesh: &Mesh, instances: &SceneInstances) -> (Mesh, SceneInstances) {
+    let Some((world_end, vertex_end)) = instances.shared_from else {
+        return (mesh.clone(), instances.clone());
+    };
+    let mut out = mesh.clone();
+    out.triangles.truncate(world_end as usize);
+    out.material_ids.truncate(world_end as usize);
+    let v = vertex_end as usize;
+    out.positions.truncate(v);
+    out.normals.truncate(v);
+    out.uvs.truncate(v);
+    out.uvs1.truncate(v);
+    out.tangents.truncate(v);
+    out.colors.truncate(v);
+    let mut result =
+        SceneInstances { meshes: instances.meshes.clone(), instances: Vec::new(), shared_from: None };
+    result.meshes.iter_mut().for_each(|m| m.shared = false);
+    for inst in &instances.instances {
+        let local = &instances.meshes[inst.mesh as usize];
+        let first = out.triangle_count() as u32;
+        if local.shared {
+            push_placed(
+                &mut out,
+                mesh,
+                inst.first as usize..inst.first as usize + local.triangle_count(),
+                &inst.world,
+            );
+            result.instances.push(Instance { first, ..inst.clone() });
+        } else {
+            result.instances.push(inst.clone());
+        }
+    }
+    result.instances.sort_by_key(|i| i.first);
+    (out, result)
+}
+
+/// Appends `src`'s triangles `range` (and the vertices they use, a contiguous run) to `out`,
+/// moved by `world` as flattening moves a node's.
+fn push_placed(out: &mut Mesh, src: &Mesh, range: std::ops::Range<usize>, world: &Affine3A) {
+    let place = Placement::new(world);
+    let used = src.triangles[range.clone()].iter().flatten().copied();
+    let (lo, hi) = used.fold((u32::MAX, 0), |(lo, hi), v| (lo.min(v), hi.max(v + 1)));
+    let (lo, hi) = (lo.min(hi) as usize, hi as usize);
+    let base = out.positions.len();
+    extend(&mut out.normals, &src.normals, (base, lo, hi), Vec3::ZERO, |n| place.normal(n));
+    extend(&mut out.tangents, &src.tangents, (base, lo, hi), Vec4::ZERO, |t| place.tangent(t));
+    extend(&mut out.uvs, &src.uvs, (base, lo, hi), glam::Vec2::ZERO, |x| x);
+    extend(&mut out.uvs1, &src.uvs1, (base, lo, hi), glam::Vec2::ZERO, |x| x);
+    extend(&mut out.colors, &src.colors, (base, lo, hi), Vec4::ONE, |x| x);
+    out.positions.extend(src.positions[lo..hi].iter().map(|&p| world.transform_point3(p)));
+    let shift = |v: u32| (v as usize - lo + base) as u32;
+    out.triangles.extend(src.triangles[range.clone()].iter().map(|t| t.map(shift)));
+    out.material_ids.extend_from_slice(&src.material_ids[range]);
+}
+
+/// An attribute `all` has (not empty): `dst` padded with `fill` to `base` vertices, then
+/// `all`'s vertices `lo..hi` mapped by `f`.
+fn extend<T: Copy>(
+    dst: &mut Vec<T>,
+    all: &[T],
+    (base, lo, hi): (usize, usize, usize),
+    fill: T,
+    f: impl Fn(T) -> T,
+) {
+    if !all.is_empty() {
+        dst.resize(base, fill);
+        dst.extend(all[lo..hi].iter().map(|&x| f(x)));
+    }
+}
+
+/// The copies `EXT_mesh_gpu_instancing` placed among `placed` (one flattening of `rig`), to
+/// finish with or without sharing their meshes.
+pub(in crate::scene) fn gpu_instances<'a>(rig: &'a Rig, placed: &[Placed]) -> Builder<'a> {
     let mut builder = Builder::new(rig);
     for p in placed.iter().filter(|p| rig.nodes.get(p.node).is_some_and(|n| n.gpu_instance)) {
         builder.add(p, p.world, None);
     }
-    builder.finish()
+    builder
 }
 
 /// True when `m` is finite and has a finite inverse that is not singular.

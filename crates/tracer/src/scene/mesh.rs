@@ -212,6 +212,56 @@ impl Mesh {
         Some(self.positions.iter().fold((first, first), |(lo, hi), p| (lo.min(*p), hi.max(*p))))
     }
 
+    /// The mesh without the triangles `dropped` flags (one flag per triangle) and the vertices
+    /// only they use; what is left keeps its order.
+    pub fn without(self, dropped: &[bool]) -> Mesh {
+        let mut used = vec![false; self.positions.len()];
+        for (t, _) in self.triangles.iter().zip(dropped).filter(|(_, d)| !**d) {
+            t.iter().for_each(|&v| used[v as usize] = true);
+        }
+        let mut new_vertex = vec![u32::MAX; self.positions.len()];
+        let mut next = 0u32;
+        for (v, &u) in used.iter().enumerate() {
+            if u {
+                new_vertex[v] = next;
+                next += 1;
+            }
+        }
+        fn keep<T: Copy>(attr: Vec<T>, used: &[bool]) -> Vec<T> {
+            attr.into_iter().zip(used).filter(|(_, u)| **u).map(|(x, _)| x).collect()
+        }
+        let kept = |t: usize| !dropped[t];
+        Mesh {
+            positions: keep(self.positions, &used),
+            normals: keep(self.normals, &used),
+            uvs: keep(self.uvs, &used),
+            uvs1: keep(self.uvs1, &used),
+            tangents: keep(self.tangents, &used),
+            colors: keep(self.colors, &used),
+            triangles: (0..self.triangles.len())
+                .filter(|&t| kept(t))
+                .map(|t| self.triangles[t].map(|v| new_vertex[v as usize]))
+                .collect(),
+            material_ids: (0..self.material_ids.len())
+                .filter(|&t| kept(t))
+                .map(|t| self.material_ids[t])
+                .collect(),
+        }
+    }
+
+    /// Bytes its arrays take.
+    pub fn bytes(&self) -> usize {
+        use std::mem::size_of_val;
+        size_of_val(&self.positions[..])
+            + size_of_val(&self.normals[..])
+            + size_of_val(&self.uvs[..])
+            + size_of_val(&self.uvs1[..])
+            + size_of_val(&self.tangents[..])
+            + size_of_val(&self.colors[..])
+            + size_of_val(&self.triangles[..])
+            + size_of_val(&self.material_ids[..])
+    }
+
     /// The three corners of triangle `t`.
     #[inline]
     pub fn corners(&self, t: usize) -> [Vec3; 3] {

@@ -16,7 +16,7 @@ mod obj;
 mod rig;
 mod tangents;
 
-pub use instances::{Instance, InstanceMesh, RigidMotion, SceneInstances, slerp};
+pub use instances::{Instance, InstanceMesh, Placement, RigidMotion, SceneInstances, slerp};
 pub use mesh::{Mesh, MeshExtras, MeshPart};
 pub use motion::{DEFAULT_MOTION_STEPS, MAX_MOTION_STEPS, SceneMotion};
 pub use rig::SceneAnimation;
@@ -284,7 +284,7 @@ impl Scene {
         let flat = animation.flatten_at(seconds).map_err(at)?;
         let mut cameras = flat.cameras;
         cameras.extend(self.cameras.iter().skip(animation.camera_count()).cloned());
-        let instances = instances::gpu_instances(animation.rig(), &flat.placed).map(Arc::new);
+        let instances = instances::gpu_instances(animation.rig(), &flat.placed).finish().map(Arc::new);
         let scene = Scene {
             path: self.path.clone(),
             mesh: flat.mesh,
@@ -359,7 +359,7 @@ impl Scene {
             motion.validate(&self.mesh).map_err(|m| TracerError::scene(&self.path, m))?;
         }
         if let Some(instances) = &self.instances {
-            instances.validate(self.mesh.triangle_count()).map_err(|m| TracerError::scene(&self.path, m))?;
+            instances.validate(&self.mesh).map_err(|m| TracerError::scene(&self.path, m))?;
         }
         for (i, light) in self.lights.iter().enumerate() {
             let ok = match *light {
@@ -410,9 +410,54 @@ impl Scene {
         punctual || environment || surfaces
     }
 
-    /// Axis-aligned bounds of all vertices (min, max); `None` for an empty scene.
+    /// Axis-aligned bounds of all vertices (min, max), every copy of a shared mesh where it
+    /// is placed; `None` for an empty scene.
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
-        self.mesh.bounds()
+        let Some(instances) = self.instances.as_deref().filter(|i| i.shared_from.is_some()) else {
+            return self.mesh.bounds();
+        };
+        let world_vertices = instances.shared_from.map_or(0, |(_, v)| v as usize);
+        let copies = instances.instances.iter().filter(|i| instances.meshes[i.mesh as usize].shared);
+        let placed = copies.flat_map(|i| {
+            instances.meshes[i.mesh as usize].positions.iter().map(|&p| i.world.transform_point3(p))
+        });
+        let mut points = self.mesh.positions[..world_vertices].iter().copied().chain(placed);
+        let first = points.next()?;
+        Some(points.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p))))
+    }
+
+    /// The number of triangles drawn: every copy of a shared mesh counted.
+    pub fn drawn_triangle_count(&self) -> usize {
+        let shared = self.instances.as_deref().filter(|i| i.shared_from.is_some());
+        let extra = shared.map_or(0, |s| {
+            let per_mesh: Vec<usize> = s.meshes.iter().map(InstanceMesh::triangle_count).collect();
+            let copies: usize = s
+                .instances
+                .iter()
+                .filter(|i| s.meshes[i.mesh as usize].shared)
+                .map(|i| per_mesh[i.mesh as usize])
+                .sum();
+            let once: usize = s.meshes.iter().filter(|m| m.shared).map(InstanceMesh::triangle_count).sum();
+            copies - once
+        });
+        self.mesh.triangle_count() + extra
+    }
+
+    /// The same scene with every copy of a shared mesh in the mesh in world space (as an
+    /// animated scene's copies are): what the scene was before its copies were shared, for
+    /// comparing the two.
+    pub fn with_copies_flattened(&self) -> Scene {
+        let Some(instances) = self.instances.as_deref().filter(|i| i.shared_from.is_some()) else {
+            return self.clone();
+        };
+        let (mesh, instances) = instances::unshare(&self.mesh, instances);
+        Scene { mesh, instances: Some(Arc::new(instances)), ..self.clone() }
+    }
+
+    /// Bytes the scene's geometry takes: the mesh's vertex, triangle and material arrays and
+    /// the instances' meshes and placements.
+    pub fn geometry_bytes(&self) -> usize {
+        self.mesh.bytes() + self.instances.as_deref().map_or(0, SceneInstances::bytes)
     }
 }
 

@@ -179,12 +179,20 @@ pub(super) fn load_with(path: &Path, keep_rig: bool) -> Result<Scene> {
     // before the first key to it).
     let animation = SceneAnimation::new(rig, channels).map_err(err)?;
     let flat = animation.flatten_at(0.0).map_err(err)?;
-    scene.instances = super::instances::gpu_instances(animation.rig(), &flat.placed).map(Arc::new);
-    scene.mesh = flat.mesh;
     scene.cameras = flat.cameras;
     scene.lights = flat.lights;
+    let instances = super::instances::gpu_instances(animation.rig(), &flat.placed);
     if animated || keep_rig {
+        // Posing flattens the scene again, every copy in world space.
+        scene.instances = instances.finish().map(Arc::new);
+        scene.mesh = flat.mesh;
         scene.animation = Some(Arc::new(animation));
+    } else {
+        let emits =
+            |m: u32| scene.materials.get(m as usize).is_some_and(crate::material::Material::is_emissive);
+        let (mesh, instances) = instances.finish_shared(flat.mesh, emits);
+        scene.mesh = mesh;
+        scene.instances = instances.map(Arc::new);
     }
     Ok(scene)
 }

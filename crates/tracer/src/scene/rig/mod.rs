@@ -25,6 +25,7 @@ pub(in crate::scene) use skin::{Influences, Skin};
 
 use morph::Morphed;
 
+use super::instances::Placement;
 use super::{Mesh, MeshExtras, MeshPart, PunctualLight, SpotFalloff};
 use crate::camera::{CameraDesc, Projection};
 use glam::{Affine3A, Mat3, Quat, Vec2, Vec3, Vec4};
@@ -294,7 +295,7 @@ impl Rig {
                     pushed.map_err(|m| format!("{}: {m}", prim.label))?;
                 }
                 let count = flat.mesh.triangle_count() as u32 - first;
-                let mirrored = frame.mirrored;
+                let mirrored = frame.place.mirrored;
                 flat.placed.push(Placed { node: i, world: *world, first, count, mirrored, rigid });
             }
             if let Some(camera) = &node.camera {
@@ -310,6 +311,40 @@ impl Rig {
             }
         }
         Ok(flat)
+    }
+
+    /// Appends the primitives `prims` in their own space to `mesh` (re-wound when `mirrored`,
+    /// as flattening re-winds a mirrored node's): a shared instance mesh, whose copies' hits
+    /// move its attributes as [`Frame::push`] would have (`instances::Placement`).
+    pub(in crate::scene) fn push_local(
+        &self,
+        prims: std::ops::Range<usize>,
+        mirrored: bool,
+        mesh: &mut Mesh,
+    ) -> Result<(), String> {
+        let prims = self.primitives.get(prims).ok_or("no such primitives")?;
+        let mut indices = Vec::new();
+        for prim in prims {
+            indices.clear();
+            indices.extend_from_slice(&prim.indices);
+            if mirrored {
+                indices.chunks_exact_mut(3).for_each(|t| t.swap(1, 2));
+            }
+            let part = MeshPart {
+                positions: &prim.positions,
+                normals: prim.normals.as_deref(),
+                uvs: prim.uvs.as_deref(),
+                indices: Some(&indices),
+                material: prim.material,
+            };
+            let extras = MeshExtras {
+                uvs1: prim.uvs1.as_deref(),
+                tangents: prim.tangents.as_deref(),
+                colors: prim.colors.as_deref(),
+            };
+            mesh.push_with(part, extras)?;
+        }
+        Ok(())
     }
 
     /// Skin `s`'s joint matrices (joint world × inverse bind) into `out`.
@@ -338,20 +373,13 @@ impl Rig {
 /// A node's world transform prepared for transforming attributes.
 struct Frame<'a> {
     world: &'a Affine3A,
-    linear: Mat3,
-    /// Normals transform by the inverse transpose; the cofactor matrix is that times det, so it
-    /// stays finite for singular transforms. Its sign is fixed by sign(det) so a mirrored node's
-    /// normals still point out of the (re-wound) front face.
-    cofactor: Mat3,
-    /// A mirroring transform turns counter-clockwise into clockwise.
-    mirrored: bool,
+    /// How its attributes move (a mirroring transform turns counter-clockwise into clockwise).
+    place: Placement,
 }
 
 impl<'a> Frame<'a> {
     fn new(world: &'a Affine3A) -> Self {
-        let m = Mat3::from(world.matrix3);
-        let det = m.determinant();
-        Self { world, linear: m, cofactor: skin::normal_matrix(m), mirrored: det < 0.0 }
+        Self { world, place: Placement::new(world) }
     }
 
     /// Appends skinned `prim` to `mesh`: each vertex moved by its joints' blended matrix; the
@@ -425,22 +453,17 @@ impl<'a> Frame<'a> {
         s.positions.extend(attrs.positions.iter().map(|&p| self.world.transform_point3(p)));
         let normals = attrs.normals.map(|ns| {
             s.normals.clear();
-            s.normals.extend(ns.iter().map(|&n| (self.cofactor * n).normalize_or_zero()));
+            s.normals.extend(ns.iter().map(|&n| self.place.normal(n)));
             &s.normals[..]
         });
         // Tangents are directions on the surface: they transform like positions' differences.
         // A mirroring transform flips the handedness of the tangent frame, so w flips too.
-        let handedness = if self.mirrored { -1.0 } else { 1.0 };
         let tangents = attrs.tangents.map(|ts| {
             s.tangents.clear();
-            s.tangents.extend(ts.iter().map(|t| {
-                let xyz = (self.linear * t.truncate()).normalize_or_zero();
-                let w = if t.w < 0.0 { -handedness } else { handedness };
-                if xyz == Vec3::ZERO { Vec4::ZERO } else { xyz.extend(w) }
-            }));
+            s.tangents.extend(ts.iter().map(|&t| self.place.tangent(t)));
             &s.tangents[..]
         });
-        let indices = if self.mirrored {
+        let indices = if self.place.mirrored {
             s.indices.clear();
             s.indices.extend_from_slice(&prim.indices);
             s.indices.chunks_exact_mut(3).for_each(|t| t.swap(1, 2));
