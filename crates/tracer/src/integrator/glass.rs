@@ -134,15 +134,11 @@ mod tests {
     use super::*;
     use crate::material::Anisotropy;
     use crate::sampling::sample_uniform_sphere;
+    use crate::test_support::Rng;
 
-    fn halton(mut i: u32, b: u32) -> f32 {
-        let (mut f, mut r) = (1.0f64, 0.0f64);
-        while i > 0 {
-            f /= b as f64;
-            r += f * (i % b) as f64;
-            i /= b;
-        }
-        r as f32
+    /// Three uniform numbers from the tests' one generator (`test_support::rng`).
+    fn numbers(rng: &mut Rng) -> (Vec2, f32) {
+        (Vec2::new(rng.unit(), rng.unit()), rng.unit())
     }
 
     /// Frosted glass (roughness 0.4, index 1.5) with anisotropy `strength` along world
@@ -176,9 +172,10 @@ mod tests {
             for wo in [Vec3::new(0.2, 0.5, 0.8).normalize(), Vec3::new(-0.4, 0.1, -0.9).normalize()] {
                 let lobe = RoughGlass::new(&sp, &material, n, wo);
                 assert!(lobe.takes_light_samples());
-                let mut found = 0;
-                for i in 0..2048 {
-                    let Some(s) = lobe.sample(Vec2::new(halton(i, 2), halton(i, 3)), halton(i, 5)) else {
+                let (mut found, mut rng) = (0, Rng::new(1));
+                for _ in 0..2048 {
+                    let (u, u_fresnel) = numbers(&mut rng);
+                    let Some(s) = lobe.sample(u, u_fresnel) else {
                         continue;
                     };
                     found += 1;
@@ -209,10 +206,10 @@ mod tests {
             let wo = n;
             let (sp, material) = glass(strength, AnisotropyMapping::Spec, n, t);
             let lobe = RoughGlass::new(&sp, &material, n, wo);
-            let (mut along, mut across) = (0.0f64, 0.0f64);
-            for i in 0..4096 {
+            let (mut along, mut across, mut rng) = (0.0f64, 0.0f64, Rng::new(2));
+            for _ in 0..4096 {
                 // u_fresnel near 1: refraction.
-                if let Some(s) = lobe.sample(Vec2::new(halton(i, 2), halton(i, 3)), 0.999) {
+                if let Some(s) = lobe.sample(numbers(&mut rng).0, 0.999) {
                     along += (s.wi.dot(t) as f64).powi(2);
                     across += (s.wi.dot(b) as f64).powi(2);
                 }
@@ -229,13 +226,12 @@ mod tests {
         let plain = RoughDielectric::new(0.4, 1.5, wo_local, Vec3::ONE, false);
         for (strength, mapping) in [(0.0, AnisotropyMapping::Spec), (0.9, AnisotropyMapping::Blender)] {
             let (sp, material) = glass(strength, mapping, n, t);
-            let lobe = RoughGlass::new(&sp, &material, n, wo);
-            for i in 0..256 {
-                let u = Vec2::new(halton(i, 2), halton(i, 3));
-                let a = lobe.sample(u, halton(i, 5)).map(|s| (s.wi, s.weight, s.pdf));
-                let b = plain
-                    .sample(wo_local, u, halton(i, 5))
-                    .map(|s| (frame.from_local(s.wi), s.weight, s.pdf));
+            let (lobe, mut rng) = (RoughGlass::new(&sp, &material, n, wo), Rng::new(3));
+            for _ in 0..256 {
+                let (u, u_fresnel) = numbers(&mut rng);
+                let a = lobe.sample(u, u_fresnel).map(|s| (s.wi, s.weight, s.pdf));
+                let b =
+                    plain.sample(wo_local, u, u_fresnel).map(|s| (frame.from_local(s.wi), s.weight, s.pdf));
                 assert_eq!(a, b, "{mapping:?} {strength}");
                 let wi = sample_uniform_sphere(u);
                 assert_eq!(lobe.eval(wi), plain.eval(wo_local, frame.to_local(wi)));
