@@ -2,10 +2,10 @@
 //! scattering vertex, next-event estimation towards one light chosen by its importance there
 //! (a light tree), plus a BSDF sample that continues the path; both estimators of direct light (emissive triangles, the
 //! environment image) are combined by multiple importance sampling with the power heuristic.
-//! Delta events (glass, punctual lights) take no MIS. Transmissive materials are a mixture:
-//! with probability transmission × (1 − metallic) the hit is a dielectric interface (smooth, or
-//! rough GGX glass, which takes no light sample either), otherwise the opaque metallic-roughness
-//! BSDF. A path that refracts into a closed mesh with an absorbing volume carries that medium
+//! Delta events (smooth glass, punctual lights) take no MIS. Transmissive materials are a
+//! mixture: with probability transmission × (1 − metallic) the hit is a dielectric interface
+//! (smooth, or rough GGX glass, which samples lights through both its halves, `glass.rs`),
+//! otherwise the opaque metallic-roughness BSDF. A path that refracts into a closed mesh with an absorbing volume carries that medium
 //! and its Beer–Lambert attenuation until it refracts out. Russian roulette from a chosen depth; a
 //! maximum depth counted in scattering vertices (the Cornell reference's 4 = Mitsuba's
 //! `max_depth` 5: the light may be reached by the ray leaving the 4th vertex).
@@ -26,14 +26,16 @@
 //! 2. Each of the `split` branches continues from that vertex as a path of its own with its own
 //!    numbers (one branch without splitting); only branch 0 samples the first vertex's light.
 //! 3. `PathState::advance` takes a path one vertex further. `scatter` picks the vertex's lobe,
-//!    glass ([`Dielectric`](crate::bsdf::dielectric::Dielectric)) or the opaque
-//!    [`Bsdf`](crate::bsdf::Bsdf), samples the direction that continues the path, adds
-//!    next-event estimation (`sample_light`: one light sample and its shadow ray) and plays
-//!    Russian roulette; `find` then traces the new ray to the next vertex.
+//!    glass ([`Dielectric`](crate::bsdf::dielectric::Dielectric), or rough glass in `glass.rs`)
+//!    or the opaque [`Bsdf`](crate::bsdf::Bsdf), samples the direction that continues the
+//!    path, adds next-event estimation (`sample_light`: one light sample and its shadow ray;
+//!    not at smooth glass) and plays Russian roulette; `find` then traces the new ray to the
+//!    next vertex.
 //! 4. A path ends when its ray escapes, at the maximum depth, by roulette, or where its lobe
 //!    gives no direction.
 
 mod attributes;
+mod glass;
 mod path_state;
 mod scene_query;
 
@@ -218,6 +220,14 @@ impl PathTracer {
     #[cfg(any(test, feature = "test-support"))]
     pub fn with_light_choice(self, choice: LightChoice, scene: &Scene) -> Self {
         Self { scene: self.scene.with_light_choice(choice, scene), ..self }
+    }
+
+    /// Test hook: rough glass estimates its direct light by BSDF samples alone, without light
+    /// samples and MIS (tests check that both estimators agree).
+    #[doc(hidden)]
+    #[cfg(any(test, feature = "test-support"))]
+    pub fn without_glass_nee(self) -> Self {
+        Self { scene: self.scene.without_glass_light_sampling(), ..self }
     }
 
     /// Test hook: the surface geometry at `hit` (tests spawn rays from it).

@@ -2,10 +2,10 @@
 //! next ([`PathState`]), the vertex it stands on ([`Vertex`]), and the step that takes it one
 //! vertex further ([`PathState::advance`]: scatter, then find the next vertex).
 
+use super::glass::RoughGlass;
 use super::scene_query::SceneQuery;
 use super::{FirstHit, PathSample};
 use crate::bsdf::dielectric::Dielectric;
-use crate::bsdf::rough_dielectric::RoughDielectric;
 use crate::bsdf::{Bsdf, BsdfParams};
 use crate::bvh::{Hit, Leaving};
 use crate::interaction::SurfaceInteraction;
@@ -17,25 +17,83 @@ use crate::sampling::{Frame, power_heuristic};
 use crate::shading::ShadingPoint;
 use glam::{Vec2, Vec3};
 
-/// Samples the rough (or thin-walled) glass lobe at `v` with numbers `u` (the microfacet) and
-/// `u_fresnel` (reflection or transmission): the world direction and its weight f·|cos|/pdf, or
-/// `None` where the direction would leave on the wrong side of the geometry.
-#[inline]
-fn rough_glass(v: &Vertex, u: Vec2, u_fresnel: f32) -> Option<(Vec3, Vec3)> {
-    let ng = v.si.n_geom;
-    let entering = ng.dot(v.wo) > 0.0;
-    // The shading normal on wo's side of the geometry, and η the far side's over wo's.
-    let n = if v.sp.normal.dot(ng) < 0.0 { -v.sp.normal } else { v.sp.normal };
-    let (n, eta) = if entering { (n, v.material.ior) } else { (-n, 1.0 / v.material.ior) };
-    let frame = Frame::from_z(n);
-    let mut wo = frame.to_local(v.wo);
-    wo.z = wo.z.max(1e-6);
-    let wo = wo.normalize();
-    let lobe = RoughDielectric::new(v.sp.roughness, eta, wo, v.sp.base_color, v.material.thin_walled);
-    let s = lobe.sample(wo, u, u_fresnel)?;
-    let wi = frame.from_local(s.wi);
-    // A reflection stays on wo's side of the geometry, a transmission crosses it.
-    ((wi.dot(ng) > 0.0) == (entering == (s.wi.z > 0.0))).then_some((wi, s.weight))
+/// What next-event estimation asks of the lobe at a vertex: the opaque [`Bsdf`] or rough glass.
+trait LightReceiver {
+    /// The normal around whose hemisphere light arrives (for the light choice); zero for a lobe
+    /// that takes light from every direction (glass).
+    fn receiver_normal(&self) -> Vec3;
+    /// f(wo, wi) without the cosine, and the density with which the lobe samples `wi`.
+    fn eval(&self, wi: Vec3) -> (Vec3, f32);
+    /// |cos θi| against the shading normal.
+    fn cos(&self, wi: Vec3) -> f32;
+    /// The absorbing medium a shadow ray along `wi` crosses, for a path now in `current`.
+    fn shadow_medium(&self, wi: Vec3, current: Option<Vec3>) -> Option<Vec3>;
+}
+
+impl LightReceiver for Bsdf {
+    #[inline(always)]
+    fn receiver_normal(&self) -> Vec3 {
+        self.geometric_normal()
+    }
+
+    #[inline(always)]
+    fn eval(&self, wi: Vec3) -> (Vec3, f32) {
+        Bsdf::eval(self, wi)
+    }
+
+    #[inline(always)]
+    fn cos(&self, wi: Vec3) -> f32 {
+        wi.dot(self.shading_normal()).abs()
+    }
+
+    /// None: an opaque surface inside an absorbing solid is not modelled (the path's medium is
+    /// entered and left through glass alone).
+    #[inline(always)]
+    fn shadow_medium(&self, _: Vec3, _: Option<Vec3>) -> Option<Vec3> {
+        None
+    }
+}
+
+/// Rough glass at vertex `v` (with the vertex for the medium its directions lead into).
+struct GlassAt<'v, 't> {
+    lobe: RoughGlass,
+    v: &'v Vertex<'t>,
+}
+
+impl LightReceiver for GlassAt<'_, '_> {
+    #[inline(always)]
+    fn receiver_normal(&self) -> Vec3 {
+        Vec3::ZERO
+    }
+
+    #[inline(always)]
+    fn eval(&self, wi: Vec3) -> (Vec3, f32) {
+        self.lobe.eval(wi)
+    }
+
+    #[inline(always)]
+    fn cos(&self, wi: Vec3) -> f32 {
+        self.lobe.cos(wi)
+    }
+
+    #[inline(always)]
+    fn shadow_medium(&self, wi: Vec3, current: Option<Vec3>) -> Option<Vec3> {
+        medium_along(self.v, wi, current)
+    }
+}
+
+/// The absorbing medium a ray leaving glass vertex `v` along `wi` travels through, for a path
+/// now in `current`: across a solid interface, the closed mesh's volume when it enters (none
+/// when it leaves, or when the mesh has no volume); on wo's side, or through a thin wall,
+/// `current`.
+#[inline(always)]
+fn medium_along(v: &Vertex, wi: Vec3, current: Option<Vec3>) -> Option<Vec3> {
+    let entering = v.si.n_geom.dot(v.wo) > 0.0;
+    if !v.material.thin_walled && (wi.dot(v.si.n_geom) > 0.0) != entering {
+        (entering && v.material.has_volume()).then_some(v.material.attenuation)
+    } else {
+        current
+    }
 }
 
 /// A shaded path vertex: the hit, its surface, and its material evaluated there.
@@ -295,8 +353,8 @@ impl PathState {
     }
 
     /// Scatters at vertex `v`: picks its lobe (glass or the opaque BSDF), samples the direction
-    /// that continues the path into `ray`, adds next-event estimation (opaque lobe, when
-    /// `sample_light`), then plays Russian roulette. False when the path ends here.
+    /// that continues the path into `ray`, adds next-event estimation (opaque lobe and rough
+    /// glass, when `sample_light`), then plays Russian roulette. False when the path ends here.
     #[inline(always)]
     fn scatter<const ALPHA: bool, const LAMBERT: bool>(
         &mut self,
@@ -326,24 +384,37 @@ impl PathState {
             // Index 1 bends nothing, rough or not: the smooth interface is exact there (and
             // Walter's half vector of an unbent refraction is undefined).
             let smooth = v.sp.roughness == 0.0 || v.material.ior == 1.0;
-            let (wi, weight) = if smooth && !v.material.thin_walled {
+            let wi = if smooth && !v.material.thin_walled {
                 let lobe = Dielectric::new(v.sp.normal, v.si.n_geom, v.wo, v.material.ior, v.sp.base_color);
                 let Some(s) = lobe.sample(u_fresnel) else { return false };
-                (s.wi, s.weight)
+                self.beta *= s.weight;
+                // A delta event: what its ray finds counts in full.
+                self.specular = true;
+                s.wi
             } else {
-                let Some(s) = rough_glass(v, Vec2::new(u0, u1), u_fresnel) else { return false };
-                s
+                let lobe = RoughGlass::new(&v.sp, v.material, v.si.n_geom, v.wo);
+                let s = lobe.sample(Vec2::new(u0, u1), u_fresnel);
+                // Rough glass takes light samples, both halves (reflection and transmission),
+                // weighed by MIS against its BSDF samples, unless it is so smooth that Cycles
+                // takes it for a delta lobe; a light seen only through frosted glass is then
+                // found by light samples, not by the rare BSDF ray that hits it (fireflies).
+                let nee = lobe.takes_light_samples() && scene.glass_light_sampling();
+                if nee && sample_light {
+                    self.sample_light::<ALPHA, false>(scene, v, &GlassAt { lobe, v }, false, out);
+                }
+                let Some(s) = s else { return false };
+                self.beta *= s.weight;
+                self.specular = !nee;
+                self.prev_pdf = s.pdf;
+                self.prev_p = v.si.p;
+                // The light choice at glass took light from every side (`receiver_normal`).
+                self.prev_n = Vec3::ZERO;
+                s.wi
             };
             self.u_light = Vec2::new(l0, l1);
-            self.beta *= weight;
-            // Rough glass takes no light sample either: what its ray finds counts in full.
-            self.specular = true;
             self.ray = v.si.spawn_ray(wi, time);
-            let entering = v.si.n_geom.dot(v.wo) > 0.0;
-            if !v.material.thin_walled && (wi.dot(v.si.n_geom) > 0.0) != entering {
-                // Refracted: into the medium the mesh encloses, or out of it into clear space.
-                self.medium = (entering && v.material.has_volume()).then_some(v.material.attenuation);
-            }
+            // Refracted: into the medium the mesh encloses, or out of it into clear space.
+            self.medium = medium_along(v, wi, self.medium);
         } else {
             let bsdf = match sheen_alone {
                 Some(sheen) => sheen,
@@ -421,13 +492,13 @@ impl PathState {
         &self,
         scene: &SceneQuery,
         v: &Vertex,
-        bsdf: &Bsdf,
+        bsdf: &impl LightReceiver,
         light_only: bool,
         out: &mut PathSample,
     ) {
         let si = &v.si;
         let Some(ls) =
-            scene.light_sample::<LAMBERT>(si.p, bsdf.geometric_normal(), self.u_light, self.ray.time)
+            scene.light_sample::<LAMBERT>(si.p, bsdf.receiver_normal(), self.u_light, self.ray.time)
         else {
             return;
         };
@@ -450,7 +521,11 @@ impl PathState {
         if scene.occluded::<ALPHA>(&shadow, t_max, scene.leaving(v.hit.slot, shadow.direction)) {
             return;
         }
-        let cos = ls.wi.dot(bsdf.shading_normal()).abs();
+        if let Some(sigma) = bsdf.shadow_medium(ls.wi, self.medium) {
+            // Beer–Lambert along the shadow ray, as `find` keeps it along a path's segment.
+            li *= Vec3::select(sigma.cmpgt(Vec3::ZERO), (-sigma * t_max).exp(), Vec3::ONE);
+        }
+        let cos = bsdf.cos(ls.wi);
         let w = if ls.is_delta || light_only { 1.0 } else { power_heuristic(ls.pdf, bsdf_pdf) };
         out.radiance += self.beta * f * li * (cos * w / ls.pdf);
     }

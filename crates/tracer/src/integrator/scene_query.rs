@@ -53,6 +53,9 @@ pub(super) struct SceneQuery {
     /// 1 / `IntegratorConfig::split`: the weight of each branch continued from a first hit
     /// (exactly 1 without splitting, so a multiply by it changes no bit).
     branch_weight: f32,
+    /// Rough glass takes light samples, weighted by MIS against its BSDF samples; always, but
+    /// for the test hook that compares the BSDF-only estimator (`PathTracer::without_glass_nee`).
+    glass_light_sampling: bool,
 }
 
 impl SceneQuery {
@@ -110,6 +113,7 @@ impl SceneQuery {
             max_depth: config.max_depth,
             rr_depth: config.rr_depth,
             branch_weight: 1.0 / config.split as f32,
+            glass_light_sampling: true,
         };
         (query, refitted)
     }
@@ -163,6 +167,19 @@ impl SceneQuery {
         self
     }
 
+    /// The same scene with rough glass estimating its direct light by BSDF samples alone, as
+    /// smooth glass does (test hook: the two estimators must agree).
+    #[cfg(any(test, feature = "test-support"))]
+    pub(super) fn without_glass_light_sampling(self) -> Self {
+        Self { glass_light_sampling: false, ..self }
+    }
+
+    /// Whether rough glass takes light samples (see `PathState::scatter`).
+    #[inline(always)]
+    pub(super) fn glass_light_sampling(&self) -> bool {
+        self.glass_light_sampling
+    }
+
     /// The maximum number of scattering vertices on a path.
     #[inline(always)]
     pub(super) fn max_depth(&self) -> u32 {
@@ -200,8 +217,9 @@ impl SceneQuery {
         self.bvh.leaving(slot, direction)
     }
 
-    /// One light sample for a receiver at `p` facing `n` at the ray's `time` (emissive triangles
-    /// alone with `TRIANGLES`, for scenes lit by nothing else), with numbers `u`.
+    /// One light sample for a receiver at `p` facing `n` (every way for `n` zero: glass) at the
+    /// ray's `time` (emissive triangles alone with `TRIANGLES`, for scenes lit by nothing
+    /// else), with numbers `u`.
     #[inline(always)]
     pub(super) fn light_sample<const TRIANGLES: bool>(
         &self,

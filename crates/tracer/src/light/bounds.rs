@@ -71,10 +71,10 @@ impl LightBounds {
     }
 
     /// How much light the bounds can send to a receiver at `p` whose incident directions lie
-    /// in the hemisphere around unit `n`: intensity × the best emission cosine × the best
-    /// receiver cosine / the squared distance, each best over the box's directions seen from
-    /// `p`. Never zero where some member can light the receiver (conservative), zero where
-    /// the cones show none can.
+    /// in the hemisphere around unit `n` (or anywhere, for `n` zero: a receiver that transmits,
+    /// rough glass): intensity × the best emission cosine × the best receiver cosine / the
+    /// squared distance, each best over the box's directions seen from `p`. Never zero where
+    /// some member can light the receiver (conservative), zero where the cones show none can.
     #[inline(always)]
     pub fn importance(&self, p: Vec3, n: Vec3) -> f32 {
         let centre = self.centre();
@@ -102,6 +102,12 @@ impl LightBounds {
         let (cos_p, _) = cos_sin_sub_clamped(cos_x, sin_x, cos_b, sin_b);
         if cos_p < self.cos_theta_e {
             return 0.0;
+        }
+        // A receiver without a side (rough glass takes light through its surface too) has no
+        // receiver cosine to bound, as pbrt-v4's points in media; opaque receivers never take
+        // this branch (`n` is loop-invariant in a tree walk, so it costs them a predicted jump).
+        if n == Vec3::ZERO {
+            return (self.intensity * cos_p.max(MIN_EMISSION_COS) / d2).min(MAX_IMPORTANCE);
         }
         // The receiver's side: the box within θb of the direction towards its centre, −wi.
         let cos_i = -wi.dot(n);
@@ -208,5 +214,23 @@ mod tests {
         assert_eq!(light.importance(Vec3::new(0.0, 0.0, 2.0), Vec3::Z), 0.0);
         let two_sided = LightBounds { two_sided: true, ..light };
         assert!(two_sided.importance(Vec3::new(0.0, 0.0, -2.0), Vec3::Z) > 0.0);
+    }
+
+    /// A receiver without a side (n zero: glass) sees a light whichever way it would have
+    /// faced, no less than a receiver facing it, and a point light too (a point's box has no
+    /// extent, so a bound that still took a receiver cosine would give it none).
+    #[test]
+    fn importance_for_a_receiver_without_a_side() {
+        let light = surface(Vec3::new(-0.5, -0.5, 0.0), Vec3::new(0.5, 0.5, 0.0), Vec3::Z);
+        let p = Vec3::new(0.3, 0.0, 2.0);
+        let facing = light.importance(p, -Vec3::Z);
+        let any = light.importance(p, Vec3::ZERO);
+        assert_eq!(light.importance(p, Vec3::Z), 0.0);
+        assert!(any >= facing && facing > 0.0, "{any} vs {facing}");
+        assert_eq!(light.importance(Vec3::new(0.0, 0.0, -2.0), Vec3::ZERO), 0.0, "still one-sided");
+        let point = LightBounds { lo: Vec3::ZERO, hi: Vec3::ZERO, cos_theta_o: -1.0, ..light };
+        for q in [Vec3::new(1.0, 2.0, 3.0), Vec3::new(0.0, -1.0, 0.0)] {
+            assert!(point.importance(q, Vec3::ZERO) > 0.0, "point light from {q}");
+        }
     }
 }

@@ -259,7 +259,7 @@ impl LightSampler {
     }
 
     /// Chooses a light for a receiver at `p` whose light arrives in the hemisphere around unit
-    /// `n`, with `u` ∈ [0, 1): (index in `lights`, its probability, `u` rescaled to [0, 1)).
+    /// `n` (from anywhere for `n` zero: glass), with `u` ∈ [0, 1): (index in `lights`, its probability, `u` rescaled to [0, 1)).
     #[inline(always)]
     fn choose(&self, p: Vec3, n: Vec3, u: f32) -> Option<(usize, f32, f32)> {
         if let Some(power) = &self.by_power {
@@ -278,7 +278,7 @@ impl LightSampler {
     }
 
     /// Chooses a light and a point on it for a receiver at `p_ref` whose light arrives in the
-    /// hemisphere around unit `n`, for a shadow ray at ray time `time` (a moving emitter is
+    /// hemisphere around unit `n` (from anywhere for `n` zero: glass), for a shadow ray at ray time `time` (a moving emitter is
     /// sampled where it is then); `u` is a stratified 2-D number (u.x also chooses the light).
     #[inline(always)]
     pub fn sample(&self, p_ref: Vec3, n: Vec3, u: Vec2, time: f32) -> Option<LightSample> {

@@ -92,7 +92,7 @@ impl LightTree {
     }
 
     /// Chooses a light for a receiver at `p` whose light arrives in the hemisphere around unit
-    /// `n`, with `u` ∈ [0, 1): (light, its probability, `u` rescaled to [0, 1)). `None` when no
+    /// `n` (from anywhere for `n` zero), with `u` ∈ [0, 1): (light, its probability, `u` rescaled to [0, 1)). `None` when no
     /// light can reach the receiver.
     #[inline(always)]
     pub fn sample(&self, p: Vec3, n: Vec3, mut u: f32) -> Option<(u32, f32, f32)> {
